@@ -158,6 +158,9 @@ class _BranchState:
     #: queued but never grown: the global stop (length, coverage) came before its turn, so it is only
     #: its copied head (see ``_Filling._drop_unborn``)
     unborn: bool = False
+    #: a root the bearing stop ended (:func:`.frame_band.bearing_keep`): its tree's children crowd on
+    #: less length, and those whose first Markov step was refused are dropped (``_Filling._drop_heads``)
+    bearing_cut: bool = False
 
 
 class _Starts:

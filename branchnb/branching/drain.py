@@ -176,6 +176,13 @@ TAIL_MAX = float(np.radians(60.0))
 #: 27.5/27.1 -> 28.9/27.1 degrees (21.2/21.1); but the trunk's bearing error median 5.0/3.5 -> 8.9/9.8 degrees
 #: (twice the example's channels reach the sea, on the inner side now, and the mouths' mean moves inward).
 TAIL_OUTER = True
+#: A turned trunk that is the example's outermost channel (:data:`TAIL_OUTER`) heads above its turn for the
+#: example's head (where the example's longest root reaches the tail's depth share; moved as far as its start
+#: lies from the example's, :meth:`_Drain.set_trunk_start`) and is held to that way (:data:`TRUNK_HOLD`) as a
+#: straight delta's trunk is (:data:`STRAIGHT_HOLD`). Beyond the paper (issue 23, branching94): with the
+#: descent alone the trunk of a delta tilted 20 degrees (``mean20``) ran straight down to its head, its channels
+#: parted that far inland of the example's and the mouths' mean moved with them.
+HEAD_HOLD = True
 #: ... only where the example's trunk turns at its head, where its first channel parts (its tail's depth share,
 #: :func:`.delta_fan._tail_share`, at least this x its first furcation's, :func:`.delta_fan.head_share`):
 #: where it turns further down (the ``delta`` kind: 0.27 against 0.66) channels below the turn lie on both
@@ -304,6 +311,8 @@ class _Drain:
             # on heads for the example's mouths (STRAIGHT_HOLD)
             if STRAIGHT_TAIL:
                 self._straight_tail(example, dom, dn)
+            if HEAD_HOLD and self.tail_outer and dom.shape == self.shape:
+                self._hold_to_head(example, dom, start)
             if STRAIGHT_HOLD and self.tail is None:
                 self.trunk_axis = axis
                 self.trunk_target = target if dom.shape == self.shape else None
@@ -345,6 +354,27 @@ class _Drain:
                 # the other channels' headings at the sea, the trunk's (the outermost) left out
                 self.tail_offsets = np.delete(offs, int(np.argmin(np.abs(offs - tail))))
                 self.tail_used = np.zeros(len(self.tail_offsets))
+
+    def _hold_to_head(self, example, dom: np.ndarray, start: np.ndarray) -> None:
+        """:data:`HEAD_HOLD`: above its turn a turned outermost trunk heads for the example's head (where its
+        longest root reaches the tail's depth share), held to that way as a straight delta's trunk is."""
+        roots = [b for b in example.branches if b.parent is None and len(b.points) >= 2]
+        if not roots or self.tail_share is None:
+            return
+        root = max(roots, key=lambda b: float(np.hypot(*np.diff(np.asarray(b.points, float), axis=0).T).sum()))
+        p = np.asarray(root.points, np.float64)
+        d = self.depth_at(p)
+        below = np.flatnonzero(d <= self.tail_share * float(d[0]))
+        if not below.size or below[0] == 0:
+            return
+        head = p[int(below[0])]
+        v = head - p[0]
+        n = float(np.hypot(*v))
+        if n < 1.0:
+            return
+        self.trunk_axis = v / n
+        self.trunk_target = head
+        self._trunk_from = p[0].copy()
 
     def outer_side(self, at) -> tuple[int, float]:
         """The side of a turned trunk no channel may leave it on at ``at`` (:data:`TAIL_OUTER`; +1: at a

@@ -237,3 +237,110 @@ def parallel_keep(tip, new_pts: np.ndarray, run: float, shape, skip_side: int = 
             ok[k:] = False
             break
     return ok, run
+
+
+#: A root entering from the frame (its start within :data:`ENTRY_PX` + 2 radii of a side) keeps its
+#: bearing (:func:`bearing_keep`): its chord over the last :data:`BEARING_WINDOW` px (or
+#: :data:`PARALLEL_SHARE` x the entry side, when longer) turns at most the example's own largest turn
+#: of such a chord off the entry side's inward normal (:func:`entry_turn_limit`) plus this (degrees).
+BEARING_MARGIN = 20.0
+#: See :data:`BEARING_MARGIN` (pixels).
+BEARING_WINDOW = 25.0
+#: A root starts at the frame within this many pixels plus 2 of its radii (the medial axis of a thick
+#: line stops about a radius short of the frame that cuts it).
+ENTRY_PX = 4.0
+_INWARD = np.array([[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0]])
+
+
+def bearing_window(shape) -> float:
+    """The chord length (pixels) :func:`entry_turn_limit` and :func:`bearing_keep` measure turns over."""
+    return max(BEARING_WINDOW, PARALLEL_SHARE * float(max(shape[:2])))
+
+
+def entry_side(point, radius: float, shape) -> int:
+    """The frame side (0 left, 1 top, 2 right, 3 bottom) a root starting at ``point`` with ``radius``
+    enters by, or -1 when it starts inside."""
+    d, s = _frame_sides(point, shape)
+    return int(s[0]) if d[0] <= ENTRY_PX + 2.0 * float(radius) else -1
+
+
+def _chord_turns(p: np.ndarray, inward: np.ndarray, window: float) -> np.ndarray:
+    """Angles (degrees) off ``inward`` of the chords of polyline ``p`` (n, 2) spanning ``window`` px of
+    arc, one per point at least ``window`` past the start."""
+    arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(p, axis=0).T))])
+    i = np.flatnonzero(arc >= window)
+    if not len(i):
+        return np.zeros(0)
+    j = np.searchsorted(arc, arc[i] - window, side="right") - 1
+    c = p[i] - p[j]
+    cos = (c @ inward) / np.maximum(np.hypot(*c.T), 1e-9)
+    return np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
+
+
+def entry_turn_limit(example: Structure) -> float:
+    """The largest turn (degrees) off its entry side's inward normal of a chord (:func:`bearing_window`)
+    along any root of ``example`` that enters from its frame, plus :data:`BEARING_MARGIN`; ``inf`` when
+    none enters (or no ``image_shape``).
+
+    Beyond the paper (issue 23, branching87): see :func:`bearing_keep`.
+    """
+    if example.image_shape is None:
+        return float("inf")
+    shape = example.image_shape[:2]
+    window = bearing_window(shape)
+    turns = []
+    for b in example.branches:
+        p = np.asarray(b.points, np.float64)
+        if b.parent is not None or len(p) < 2:
+            continue
+        s = entry_side(p[0], float(np.asarray(b.thickness).ravel()[0]), shape)
+        if s >= 0:
+            turns.append(_chord_turns(p, _INWARD[s], window))
+    if not turns:
+        return float("inf")
+    t = np.concatenate(turns)
+    return float((t.max() if len(t) else 0.0) + BEARING_MARGIN)
+
+
+def bearing_keep(points, new_pts: np.ndarray, side: int, limit: float, shape) -> np.ndarray:
+    """Which points ``new_pts`` (n, 2) a root entering by ``side`` (:func:`entry_side`) keeps after its
+    points so far ``points`` (m, 2): those before the first whose chord over the last
+    :func:`bearing_window` px turns more than ``limit`` degrees off the side's inward normal.
+
+    Beyond the paper (issue 23, branching87): the band rules (:func:`band_keep`, :func:`parallel_keep`)
+    leave a root free to turn anywhere beyond :data:`PARALLEL_BAND`; a river network's trunk from the
+    bottom of a 512 px map ran up to 45 px under the top, turned 90 deg and ran 200 px along it; a
+    256 px bolt's trunk turned sideways near the bottom. The example's roots keep their bearing within
+    their own largest turn (:func:`entry_turn_limit`); a root turning past it ends there. Its tree then
+    furcates on less length and children crowd: those whose first Markov step the density refused are
+    dropped with the unborn heads (``_BranchState.bearing_cut``, ``_Filling._drop_heads``; branching94: on
+    tests/test_branching_unborn.py's crack, seed 0, 3 bare heads -> 0; _frame_hug_check's 45 cases 42 -> 44).
+
+    Examples
+    --------
+    >>> pts = np.array([[50.0, 0.0], [50.0, 40.0]])
+    >>> new = np.array([[50.0, 50.0], [60.0, 60.0], [80.0, 60.0], [100.0, 60.0]])
+    >>> bearing_keep(pts, new, 1, 60.0, (200, 200)).tolist()     # the third turns 72 deg in 25 px
+    [True, True, False, False]
+    """
+    ok = np.ones(len(new_pts), bool)
+    if side < 0 or not np.isfinite(limit) or not len(new_pts):
+        return ok
+    window = bearing_window(shape)
+    q = np.asarray(points, np.float64).reshape(-1, 2)
+    # only the last window of the branch matters
+    seg = np.hypot(*np.diff(q, axis=0).T)
+    back = np.cumsum(seg[::-1])
+    k = int(np.searchsorted(back, window)) + 2
+    q = np.vstack([q[-k:], np.asarray(new_pts, np.float64).reshape(-1, 2)])
+    arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(q, axis=0).T))])
+    n0 = len(q) - len(new_pts)
+    i = np.arange(n0, len(q))
+    j = np.searchsorted(arc, arc[i] - window, side="right") - 1
+    full = arc[i] >= window
+    c = q[i] - q[np.maximum(j, 0)]
+    cos = (c @ _INWARD[side]) / np.maximum(np.hypot(*c.T), 1e-9)
+    bad = full & (np.degrees(np.arccos(np.clip(cos, -1.0, 1.0))) > limit)
+    if bad.any():
+        ok[int(np.argmax(bad)):] = False
+    return ok

@@ -44,6 +44,9 @@ from .frame_band import (
     _frame_share,
     _frame_sides,
     band_keep,
+    bearing_keep,
+    entry_side,
+    entry_turn_limit,
     parallel_keep,
 )
 from .guidance import Guidance
@@ -381,6 +384,9 @@ class _Grower(_Starts, _Filling):
         self.frame_exit = np.where(_frame_ends(model.example, FRAME_END), FRAME_EXIT, np.inf)
         self._left_band: set = set()
         self._par_run: dict = {}   # per branch, the length run along a side of the frame (_along_frame)
+        # roots entering from the frame keep their bearing within the example's roots' turns (.frame_band)
+        self.turn_limit = entry_turn_limit(model.example) if self.frame_band > 0 and self.drain is None \
+            else float("inf")
         self.radial = False   # roots are hub primaries (set by run)
         self._gen_cap: dict = {}   # radial: children per generation at most (.radial._generation_caps)
         self._empty_dt: np.ndarray | None = None
@@ -756,6 +762,11 @@ class _Grower(_Starts, _Filling):
             ok &= self._off_frame(bi, st, tip, new_pts)
             if self.drain is None:   # a delta's channels end at the sea, which parallel_keep does not know
                 ok &= self._along_frame(bi, st, tip, new_pts)
+                if st.parent is None and np.isfinite(self.turn_limit) and len(st.points) > 1:
+                    side = entry_side(st.points[0], float(st.radii[0]), self.shape)
+                    kept = bearing_keep(st.points, new_pts, side, self.turn_limit, self.shape)
+                    st.bearing_cut = st.bearing_cut or not kept.all()
+                    ok &= kept
         if not ok.all():
             cut = int(np.argmin(ok))
             new_pts, ang, rad = new_pts[:cut], ang[:cut], rad[:cut]
