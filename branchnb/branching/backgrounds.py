@@ -250,12 +250,32 @@ def _flat_region_labels(gray, radius: float, tol: float):
     """Labels of the large flat-colour regions (wider than ``radius``) and which of them touch the border."""
     g = np.asarray(gray, np.float64)
     flat = (ndi.maximum_filter(g, 5) - ndi.minimum_filter(g, 5)) < tol
+    flat = _fill_marks(flat, radius)
     lab, n = ndi.label(large_flat_regions(flat, radius, min_area=0.02))
     touch = np.zeros(n + 1, bool)
     for edge in (lab[0], lab[-1], lab[:, 0], lab[:, -1]):
         touch[edge] = True
     touch[0] = False
     return lab, n, touch
+
+
+def _fill_marks(flat: np.ndarray, radius: float) -> np.ndarray:
+    """``flat`` with its small enclosed non-flat specks filled: marks printed on a region (a sea's wave
+    dashes, a land's tree glyphs, town dots) of at most ``2 radius**2`` pixels each.
+
+    Beyond the paper (issue 23): a sea hatched with wave dashes every ~20 px has no spot a disk of
+    ``radius`` fits into between them, so it was no flat region at all, and a drawn map's outside was
+    taken for land (its domain a blob bitten by the dashes, the extracted "structure" the sea itself).
+    Lines are networks far larger than the bound and stay unfilled.
+    """
+    # padded with flat pixels: a mark cut by the frame is enclosed too
+    holes = ndi.binary_fill_holes(np.pad(flat, 1, constant_values=True))[1:-1, 1:-1] & ~flat
+    if not holes.any():
+        return flat
+    lab, n = ndi.label(holes)
+    small = np.bincount(lab.ravel(), minlength=n + 1) <= 2.0 * radius ** 2
+    small[0] = False
+    return flat | small[lab]
 
 
 def _ground_regions(gray, branches, lab, n: int, tol: float) -> np.ndarray:
