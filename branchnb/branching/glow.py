@@ -89,9 +89,9 @@ def glowing_share(image: np.ndarray, pm: PixelMap, tol: float = 0.03) -> float:
 
 
 def _glow_reach(lum: np.ndarray, dist: np.ndarray, cap: int, floor: float = 0.01) -> int:
-    """First distance (px) from which the median luminance no longer falls towards the ground: the
-    median at ``d`` exceeds the one 4-8 px farther out by under ``floor`` (a smooth sky's drift over
-    6 px is far less), plus a 2 px margin."""
+    """First distance (px, from 2) from which the mean luminance no longer moves towards the ground:
+    the mean at ``d`` differs from the one 4-8 px farther out by under ``floor`` (a smooth sky's drift
+    over 6 px is far less), plus a 2 px margin."""
     d = np.round(dist).astype(np.int64)
     ok = d <= cap + 8
     sums = np.bincount(d[ok], lum[ok], minlength=cap + 9)
@@ -101,7 +101,8 @@ def _glow_reach(lum: np.ndarray, dist: np.ndarray, cap: int, floor: float = 0.01
     for k in range(1, cap + 1):
         out = prof[k + 4:k + 9]
         out = out[np.isfinite(out)]
-        if np.isfinite(prof[k]) and out.size and prof[k] - out.mean() < floor:
+        # (either way: a dark line's bright halo rises outwards before it falls to the ground)
+        if k >= 2 and np.isfinite(prof[k]) and out.size and abs(prof[k] - out.mean()) < floor:
             return min(k + 2, cap)
     return cap
 
@@ -164,6 +165,19 @@ class GlowModel:
     radii: np.ndarray
     excess: np.ndarray
 
+    def region_textures(self, layout: np.ndarray) -> dict:
+        """``{label: (H, W, C) image}``: the ground of every region of ``layout``, each pixel outside the
+        region taking the colour of the nearest pixel inside (for :class:`~.drawing.DrawingStyle`: a
+        night sky keeps its gradient, drawn in one flat colour it lost it)."""
+        from scipy import ndimage as ndi
+
+        lay = np.asarray(layout)
+        out = {}
+        for k in np.unique(lay):
+            _d, (iy, ix) = ndi.distance_transform_edt(lay != k, return_indices=True)
+            out[int(k)] = self.ground[iy, ix]
+        return out
+
     def light(self, pm: PixelMap) -> np.ndarray:
         """The colour the lines of ``pm`` add to their ground, (H, W, C) float32 (0 beyond ``reach``)."""
         h, w = pm.dist.shape
@@ -175,10 +189,11 @@ class GlowModel:
             return out
         d = pm.dist[near]
         r = pm.radius[near]
-        grid = np.arange(self.reach + 1, dtype=np.float64)
-        # per radius class, the profile interpolated at the pixel's distance; between classes linearly
-        per_class = np.stack([np.stack([np.interp(d, grid, self.excess[k, :, ch]) for ch in range(c)], -1)
-                              for k in range(len(self.radii))])
+        # per radius class, the profile at the pixel's distance rounded as it was measured (interpolated
+        # between the bins, a 3 px core's edge at d = 2 came out at 0.63 of the example's); between
+        # classes linearly
+        di = np.minimum(np.round(d).astype(np.int64), self.reach)
+        per_class = self.excess[:, di, :]
         if len(self.radii) == 1:
             val = per_class[0]
         else:
@@ -237,10 +252,14 @@ def glow_model(image: np.ndarray, pm: PixelMap, labels: np.ndarray | None = None
     img = np.asarray(image, np.float32)
     if img.ndim == 2:
         img = img[..., None]
-    if glowing_share(img, pm, tol) < share:
-        return None
     h, w = img.shape[:2]
     cap = int(max_reach) if max_reach is not None else max(8, min(h, w) // 8)
+    ring = glowing_share(img, pm, tol)
+    far = np.isfinite(pm.dist) & (pm.dist > cap)
+    # a textured or noisy ground is non-flat beside the lines as everywhere else: no glow is told apart
+    rest = float(np.mean(_local_range(img)[far] >= tol)) if far.any() else 0.0
+    if ring < share or ring - rest < 0.5:
+        return None
     lum = img[..., :3].mean(axis=2)
     finite = np.isfinite(pm.dist) & np.isfinite(pm.radius)
     dist = np.where(finite, pm.dist, np.inf)

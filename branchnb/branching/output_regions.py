@@ -131,7 +131,7 @@ def _draw_flat(ex, example_structure, target_structure, layout, labels_t, target
             glow = glow_model(ex, pm_s, layout)
         if glow is not None:
             clean = drawing_style(glow.ground, example_structure, layout, pm_s)
-            style = replace(style, region_colours=clean.region_colours, region_textures=clean.region_textures,
+            style = replace(style, region_colours=clean.region_colours, region_textures=glow.region_textures(layout),
                             boundary_colour=clean.boundary_colour, boundary_width=clean.boundary_width)
         if cache is not None:
             cache["flat_style"] = style
