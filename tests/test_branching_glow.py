@@ -91,3 +91,27 @@ def test_drawn_lines_do_not_glow():
     blurred[:60] += 0.5 * glow[:60, :, None]
     m = glow_model(np.clip(blurred, 0, 1), pm)
     assert m is not None and m.reach >= 5
+
+
+def test_glow_on_one_plain_ground():
+    """A glowing cell on plain black (one flat region, the textured path before) keeps its glow."""
+    rng = np.random.default_rng(3)
+    s = 160
+    core = np.zeros((s, s), np.float32)
+    for a in (0.3, 2.2, 4.2):
+        p = [np.array([s / 2, s / 2])]
+        for _ in range(18):
+            b = a + rng.normal(0, 0.4)
+            p.append(p[-1] + 3.5 * np.array([np.cos(b), np.sin(b)]))
+        cv2.polylines(core, [(np.array(p) * 4).astype(np.int32)], False, 1.0, 2, cv2.LINE_AA, shift=2)
+    img = 0.02 + cv2.GaussianBlur(core, (0, 0), 4.0)[..., None] * np.array([0.2, 1.0, 0.3]) * 1.5 \
+        + core[..., None] * np.array([0.5, 1.0, 0.5])
+    img = np.clip(img, 0, 1).astype(np.float32)
+    ex = extract_structure(img)
+    res = synthesize_structure(fit_model(ex), rng=1)
+    out = synthesize_image(img, ex, res, rng=1).image
+    pm_s = SkeletonMap(ex, 1.0).pixel_map(img.shape[:2])
+    pm_t = SkeletonMap(res.structure, 1.0).pixel_map(img.shape[:2])
+    pe, po = _profile(img, pm_s, 9), _profile(out, pm_t, 9)
+    assert po[4] >= 0.5 * pe[4] and po[4] > 0.05          # the glow reaches as far (it ended at ~3 px)
+    assert np.max(np.abs(pe[3:] - po[3:])) <= 0.2
