@@ -250,7 +250,7 @@ def glow_model(image: np.ndarray, pm: PixelMap, labels: np.ndarray | None = None
     >>> from branchnb.core.structure import Branch, Structure
     >>> from branchnb.branching.skeleton_map import SkeletonMap
     >>> core = np.zeros((80, 80), np.float32); core[39:41, 5:75] = 1.0
-    >>> img = np.clip(0.1 + core[..., None] * 0.8 + 0.6 * cv2.GaussianBlur(core, (0, 0), 3.0)[..., None]
+    >>> img = np.clip(0.1 + core[..., None] * 0.8 + 1.5 * cv2.GaussianBlur(core, (0, 0), 3.0)[..., None]
     ...               * np.array([0.6, 0.3, 1.0]), 0, 1).astype(np.float32)
     >>> pm = SkeletonMap(Structure([Branch([(5, 39.5), (74, 39.5)], 1.0)]), 1.0).pixel_map((80, 80))
     >>> m = glow_model(img, pm)
