@@ -197,11 +197,11 @@ class GlowModel:
             return out
         d = pm.dist[near]
         r = pm.radius[near]
-        # per radius class, the profile at the pixel's distance rounded as it was measured (interpolated
-        # between the bins, a 3 px core's edge at d = 2 came out at 0.63 of the example's); between
-        # classes linearly
-        di = np.minimum(np.round(d).astype(np.int64), self.reach)
-        per_class = self.excess[:, di, :]
+        # per radius class, the profile interpolated at the pixel's distance (looked up at the rounded
+        # distance, as it is measured, a thin bolt's core fell apart into dashes); between classes linearly
+        grid = np.arange(self.reach + 1, dtype=np.float64)
+        per_class = np.stack([np.stack([np.interp(d, grid, self.excess[k, :, ch]) for ch in range(c)], -1)
+                              for k in range(len(self.radii))])
         if len(self.radii) == 1:
             val = per_class[0]
         else:
