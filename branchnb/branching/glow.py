@@ -96,6 +96,26 @@ def glowing_share(image: np.ndarray, pm: PixelMap, tol: float = 0.03) -> float:
     return float(np.mean(_local_range(image)[ring] >= tol))
 
 
+def _towards_lines(image: np.ndarray, pm: PixelMap) -> float:
+    """How consistently the luminance beside the lines (the ring of :func:`glowing_share`) changes
+    towards them: ``|mean sign(grad lum . direction to the line)|`` over its pixels that are not flat.
+    A glow rises (a dark line's halo falls) towards its line all round: ~1; the relief shading of a
+    terrain map along its rivers is lit on one slope and shaded on the other: ~0 (its ring is as
+    non-flat as a glow's, 0.99)."""
+    lum = cv2.GaussianBlur(np.asarray(image, np.float32)[..., :3].mean(axis=2), (0, 0), 1.0)
+    gy, gx = np.gradient(lum)
+    dist = np.where(np.isfinite(pm.dist), pm.dist, 0.0).astype(np.float32)
+    dy, dx = np.gradient(dist)
+    r = np.where(np.isfinite(pm.radius), pm.radius, 0.0)
+    lo = 1.5 * r + 3.0
+    ring = np.isfinite(pm.dist) & (pm.dist >= lo) & (pm.dist <= lo + np.maximum(4.0, 2.0 * r))
+    dot = -(gx * dx + gy * dy)
+    sel = ring & (np.hypot(gx, gy) > 0.002) & (np.hypot(dx, dy) > 0.5)
+    if np.count_nonzero(sel) < 20:
+        return 0.0
+    return float(abs(np.mean(np.sign(dot[sel]))))
+
+
 def _glow_reach(lum: np.ndarray, dist: np.ndarray, cap: int, floor: float = 0.01) -> int:
     """First distance (px, from 2) from which the mean luminance no longer moves towards the ground:
     the mean at ``d`` differs from the one 4-8 px farther out by under ``floor`` (a smooth sky's drift
@@ -266,7 +286,7 @@ def glow_model(image: np.ndarray, pm: PixelMap, labels: np.ndarray | None = None
     far = np.isfinite(pm.dist) & (pm.dist > cap)
     # a textured or noisy ground is non-flat beside the lines as everywhere else: no glow is told apart
     rest = float(np.mean(_local_range(img)[far] >= tol)) if far.any() else 0.0
-    if ring < share or ring - rest < 0.5:
+    if ring < share or ring - rest < 0.5 or _towards_lines(img, pm) < 0.7:
         return None
     lum = img[..., :3].mean(axis=2)
     finite = np.isfinite(pm.dist) & np.isfinite(pm.radius)
