@@ -765,12 +765,22 @@ def drop_flecks(layer: np.ndarray, source_alpha: np.ndarray, *, level: float = 0
         # not a piece whose faint pixels join two others (a toe's solid link at 100 px):
         # removing it would split the object
         rest, _ = ndi.label((layer[..., 3] > 0.02) & ~gone, structure=eight)
+        rest_sizes = np.bincount(rest.ravel())
+        # (faint only: no pixel above the level)
+        faint = np.asarray(ndi.maximum(layer[..., 3], rest, np.arange(len(rest_sizes)))) <= level
         boxes = ndi.find_objects(lab)
+        speck = 0.5 * float(src_sizes.min())
         for i in np.flatnonzero(small) + 1:
             sl = tuple(slice(max(b.start - 1, 0), b.stop + 1) for b in boxes[i - 1])
             ring = ndi.binary_dilation(lab[sl] == i, structure=eight) & (rest[sl] > 0)
-            if len(np.unique(rest[sl][ring])) > 1:
+            near = np.unique(rest[sl][ring])
+            # (the dot's own faint rim, cut off from the object with it, is no piece it joins:
+            # a 3 px solid dot beside a notched petal's tip stayed for it; it goes with the dot)
+            own = near[(rest_sizes[near] < speck) & faint[near]]
+            if len(near) - len(own) > 1:
                 gone[sl] &= lab[sl] != i
+            elif len(own):
+                gone |= np.isin(rest, own)
     if not gone.any():
         return layer
     out = layer.copy()
