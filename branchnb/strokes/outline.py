@@ -769,14 +769,16 @@ def drop_flecks(layer: np.ndarray, source_alpha: np.ndarray, *, level: float = 0
         # (faint only: no pixel above the level)
         faint = np.asarray(ndi.maximum(layer[..., 3], rest, np.arange(len(rest_sizes)))) <= level
         boxes = ndi.find_objects(lab)
-        speck = 0.5 * float(src_sizes.min())
         for i in np.flatnonzero(small) + 1:
             sl = tuple(slice(max(b.start - 1, 0), b.stop + 1) for b in boxes[i - 1])
-            ring = ndi.binary_dilation(lab[sl] == i, structure=eight) & (rest[sl] > 0)
+            grown = ndi.binary_dilation(lab[sl] == i, structure=eight)
+            ring = grown & (rest[sl] > 0)
             near = np.unique(rest[sl][ring])
-            # (the dot's own faint rim, cut off from the object with it, is no piece it joins:
-            # a 3 px solid dot beside a notched petal's tip stayed for it; it goes with the dot)
-            own = near[(rest_sizes[near] < speck) & faint[near]]
+            # (the dot's own faint rim, cut off from the object with it -- faint pixels all
+            # within a pixel of the dot -- is no piece it joins: a 3 px solid dot beside a
+            # notched petal's tip stayed for it; it goes with the dot. A faint toe beyond it is.)
+            inside = np.bincount(rest[sl][ring], minlength=len(rest_sizes))
+            own = near[faint[near] & (inside[near] == rest_sizes[near])]
             if len(near) - len(own) > 1:
                 gone[sl] &= lab[sl] != i
             elif len(own):
