@@ -22,7 +22,6 @@ from scipy import ndimage as ndi
 
 from branchnb.strokes import Stroke, edit_structure
 from branchnb.strokes._examples import bent_spine
-from branchnb.strokes.joints import close_hairlines
 from branchnb.strokes.outline import _close_rim_cracks
 from branchnb.strokes.parts import _closed_by_disk, _opened_by_disk, carry_stroke
 from branchnb.strokes.procedural import figure, twig
@@ -72,21 +71,6 @@ def test_a_crack_that_shuts_nothing_in_is_still_closed():
     layer[:, 3] = (0.3, 0.05, 0.1, 0.2)
     out = _close_rim_cracks(layer)
     assert np.allclose(out[1:-1, 4, 3], 0.2)
-
-
-def test_close_hairlines_leaves_a_notch_open():
-    """A notch 2 px wide (a transparent column and a soft one) opening onto the background:
-    no hairline, even between opaque sides within reach; a soft line inside stays a hairline."""
-    lay = np.zeros((24, 24, 4), np.float32)
-    lay[3:, :] = (0.8, 0.6, 0.4, 1.0)
-    lay[3:12, 10, 3] = 0.0
-    lay[3:12, 11, 3] = 0.4
-    zone = [(np.array([11.0, 8.0]), 9.0)]
-    out = close_hairlines(lay, zone)
-    assert (out[3:12, 10:12, 3] == lay[3:12, 10:12, 3]).all()
-    lay[14:20, 11, 3] = 0.4  # a line inside the object: closed
-    out = close_hairlines(lay, [(np.array([11.0, 14.0]), 9.0)])
-    assert (out[14:20, 11, 3] == 1.0).all() and (out[3:12, 10:12, 3] == lay[3:12, 10:12, 3]).all()
 
 
 def test_disk_morphology_matches_scipy():

@@ -348,7 +348,7 @@ def close_hairlines(layer: np.ndarray, zones, *, reach: int = 2) -> np.ndarray:
         if r0 >= r1 or c0 >= c1:
             continue
         win = out[r0:r1, c0:c1]
-        hit = _hairline(win[..., 3], reach) & ~_open_to_outside(win[..., 3])
+        hit = _hairline(win[..., 3], reach)
         yy, xx = np.mgrid[r0:r1, c0:c1]
         hit &= (xx - cx) ** 2 + (yy - cy) ** 2 <= r * r
         if not hit.any():
@@ -360,19 +360,6 @@ def close_hairlines(layer: np.ndarray, zones, *, reach: int = 2) -> np.ndarray:
         win[hit, :3] = win[iy[hit], ix[hit], :3]
         win[hit, 3] = 1.0
     return out
-
-
-def _open_to_outside(a: np.ndarray) -> np.ndarray:
-    """Pixels open at the silhouette's level (alpha < 0.5, 4-connected) joined to the window's
-    border: the background round the object and the slits that open onto it (a petal's notch,
-    the gap between two fingers), which are no hairline."""
-    lab, n = ndi.label(a < 0.5)
-    if n == 0:
-        return np.zeros(a.shape, bool)
-    edge = np.zeros(n + 1, bool)
-    edge[np.unique(np.r_[lab[0], lab[-1], lab[:, 0], lab[:, -1]])] = True
-    edge[0] = False
-    return edge[lab]
 
 
 def _hairline(a: np.ndarray, reach: int) -> np.ndarray:
