@@ -283,20 +283,30 @@ def split_by_shape(piece: np.ndarray, least: float, neck: float = SHAPE_SPLIT_NE
 def _shape_parts(lab_img: np.ndarray, count: int, min_part: float) -> tuple[np.ndarray, int]:
     """The part labels ``lab_img`` (1..count) with every part split by shape
     (:func:`split_by_shape`)."""
+    from .strike_notch import split_at_notches
+
     least = min_part * lab_img.size
     out = lab_img.copy()
-    for k in range(1, count + 1):
+    # a piece with no neck may still come apart at its outline's notches (a 2 x 2 cluster of
+    # discs, a bold word), and its sides again, at a neck or at notches (dendrite43)
+    todo = [(k, 0) for k in range(1, count + 1)]
+    while todo:
+        k, depth = todo.pop()
         piece = out == k
-        if piece.sum() < 2 * least:
+        if depth >= 4 or piece.sum() < 2 * least:
             continue
         box = ndimage.find_objects(piece.astype(np.int8))[0]
         split = split_by_shape(piece[box], least)
         if split is None:
-            continue
+            split = split_at_notches(piece[box], least)
+            if split is None:
+                continue
         sub = out[box]
         for j in range(2, int(split.max()) + 1):
             count += 1
             sub[split == j] = count
+            todo.append((count, depth + 1))
+        todo.append((k, depth + 1))
     return out, count
 
 
