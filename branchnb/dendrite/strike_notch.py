@@ -37,8 +37,9 @@ NOTCH_ROUND_AIM = 30.0
 #: Least solidity (area over convex hull area) of both sides of a cut between round parts
 #: (two overlapping discs ~0.96-0.99; halves of a bold letter 0.75-0.91).
 NOTCH_ROUND_SOLID = 0.93
-#: A row of strokes is at least this many times as long as it is high...
-NOTCH_ROW_ASPECT = 2.0
+#: A row of strokes is at least this many times as long as it is high (two bold capitals
+#: touching 1.75-2, one 1.0-1.2, a lowercase "m" 1.56)...
+NOTCH_ROW_ASPECT = 1.7
 #: ... and at least this many stroke widths high (a bold word ~5; a worm ~3, a capsule 1).
 NOTCH_ROW_STROKES = 3.0
 #: Sharpest angle at a notch from which a row is cut (letter joins 20-70, worms' bends 135+).

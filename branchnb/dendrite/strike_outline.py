@@ -293,7 +293,7 @@ def _shape_parts(lab_img: np.ndarray, count: int, min_part: float) -> tuple[np.n
     while todo:
         k, depth = todo.pop()
         piece = out == k
-        if depth >= 4 or piece.sum() < 2 * least:
+        if depth >= 8 or piece.sum() < 2 * least:
             continue
         box = ndimage.find_objects(piece.astype(np.int8))[0]
         split = split_by_shape(piece[box], least)
