@@ -26,7 +26,7 @@ from scipy import ndimage
 
 __all__: list[str] = []
 
-#: Sharpest outline angle (degrees, between the outline 1/2 stroke width to either side) at
+#: Sharpest outline angle (degrees, between the outline 0.35 inscribed radii to either side) at
 #: a notch that :func:`split_at_notches` cuts from between round parts: two discs meeting at
 #: 1.4 radii make ~105-140, a bumpy blob's dents and a capsule's sides ~165-180.
 NOTCH_ROUND_ANGLE = 145.0
@@ -158,12 +158,12 @@ def split_at_notches(piece: np.ndarray, least: float) -> np.ndarray | None:
     --------
     >>> y, x = np.mgrid[0:120, 0:120]
     >>> four = np.zeros((120, 120), bool)
-    >>> for cx in (45, 75):
-    ...     for cy in (45, 75):
-    ...         four |= np.hypot(x - cx, y - cy) < 22
+    >>> for cx in (42, 78):
+    ...     for cy in (42, 78):
+    ...         four |= np.hypot(x - cx, y - cy) < 28
     >>> out = split_at_notches(four, 300)
-    >>> int(out.max())
-    2
+    >>> int(out.max()), len({int(out[30, 30]), int(out[30, 90]), int(out[90, 30]), int(out[90, 90])})
+    (4, 4)
     >>> split_at_notches(np.hypot(x - 60, y - 60) < 40, 300) is None  # a disc
     True
     """
@@ -184,7 +184,9 @@ def split_at_notches(piece: np.ndarray, least: float) -> np.ndarray | None:
     stroke = 2.0 * float(np.median(depth[axis])) if axis.any() else 2.0 * rin
     c = _outline(piece)
     n = len(c)
-    notches = _notches(c, NOTCH_DEPTH * rin, max(3, int(round(0.25 * stroke))))
+    # the notch's angle is read a third of the inscribed radius away (a quarter stroke width
+    # on a bold letter; the skeleton of a symmetric cluster can shrink to a point)
+    notches = _notches(c, NOTCH_DEPTH * rin, max(3, int(round(0.35 * rin))))
     if not notches:
         return None
     step = max(1, n // 400)  # a 1000-px outline's every pixel is not needed as a cut's end
