@@ -8,11 +8,11 @@ import cv2
 import numpy as np
 import pytest
 from scipy import ndimage
+from test_dendrite_touching_shapes import _singles
 
 from branchnb.dendrite import stylize
 from branchnb.dendrite.strike_notch import split_at_notches
 from branchnb.dendrite.strike_outline import outline_parts
-from test_dendrite_touching_shapes import _singles
 
 
 def _word(text: str, n: int, overlap: float = 0.15) -> np.ndarray:
