@@ -37,8 +37,9 @@ and a bold word of one colour whose letters touch side by side (their join as wi
 strokes). Least outline coverage (ink within 4 px of each object's own outline) before ->
 after at 256 / 768 px: bold "HAM" 0.07 / 0.07 -> 0.58 / 0.84, "MOON" 0.10 / 0.07 -> 0.41 /
 0.74, a 2 x 2 cluster of discs 1.4 radii apart 0.17 / 0.08 -> 0.41 / 0.57 (only ~0.5 of each
-disc's own outline lies on the cluster's outline; the rest is inside); single bold letters
-M, W (0.12-0.20) unchanged. Limits: letters under ``OUTLINE_MIN_PART`` of the picture (a line of small
+disc's own outline lies on the cluster's outline, the rest inside; on that share 0.51 /
+0.93); single bold letters M, W (0.12-0.20) and the thin and multi-object kinds of
+``_thin_check``, ``_thin_branch_check`` and ``_multi_bolt_check`` keep their parts. Limits: letters under ``OUTLINE_MIN_PART`` of the picture (a line of small
 text) keep the paper's bolt; a thin piece without a core (a pole) counts as a part but is not
 split.
 
