@@ -231,8 +231,13 @@ def _relight_setup(ex: np.ndarray, canvas: np.ndarray, covered: np.ndarray, regi
 
 def _complete(out, ex: np.ndarray, regions: ExampleRegions, p, flat: bool, use_poisson: bool, pm_s, pm_t,
               labels_t, src_labels, rng: np.random.Generator, report, frag_share: float, timings: dict,
-              domains=None):
+              domains=None, patchwork: bool = False):
     """Gap completion of the fragments' canvas ``out`` (a ``_Canvas``, updated in place).
+
+    ``patchwork`` (a ground of flat patches, :func:`~branchnb.branching.patchwork.is_patchwork`;
+    beyond the paper, issue 23): the patches are copied as they are, with graph-cut seams only, no
+    relighting and no gradient-domain correction (both smeared one field's colour into the next: a
+    blurred mush of field colours where the example has flat fields with sharp borders).
 
     Returns ``(fill, n_inpainted)``.
     """
@@ -250,7 +255,7 @@ def _complete(out, ex: np.ndarray, regions: ExampleRegions, p, flat: bool, use_p
         rim = int(p.completion_rim)
         inner = ndi.binary_erosion(covered, iterations=rim, border_value=1) if rim > 0 else covered
         relit = None
-        if p.relight_completion and not flat:
+        if p.relight_completion and not flat and not patchwork:
             relit = _relight_setup(ex, canvas, covered, regions, body, p.patch_size, pm_s.dist, pm_t.dist,
                                    domains=domains)
             if relit is not None:
@@ -258,7 +263,7 @@ def _complete(out, ex: np.ndarray, regions: ExampleRegions, p, flat: bool, use_p
         ex_c = ex if relit is None else ex_fill
         kw = dict(patch_size=p.patch_size, overlap=p.patch_overlap, protect=(body & covered) | inner,
                   tolerance=p.completion_tolerance, forbid_weight=p.forbid_weight, min_free=p.min_free,
-                  method=p.seams, poisson=use_poisson, anchored=p.anchors, anchor_weight=p.anchor_weight,
+                  method=p.seams, poisson=use_poisson and not patchwork, anchored=p.anchors, anchor_weight=p.anchor_weight,
                   screen=p.completion_screen if p.anchors else 0.0, rng=rng, progress=sub_progress)
         if labels_t is None:    # the quicker window search of gap_quilting (issue 23)
             comp = quilt_gaps(canvas, covered, ex_c, regions.forbidden, **kw)
