@@ -34,8 +34,11 @@ SMOOTH = 5
 
 
 def _smoothed(image) -> np.ndarray:
-    """The colour channels of ``image`` with their grain smoothed away (median of ``SMOOTH`` px)."""
-    return cv2.medianBlur(np.ascontiguousarray(np.asarray(image, np.float32)[..., :3]), SMOOTH)
+    """The colour channels of ``image`` (at most three; a grey image's one) with their grain
+    smoothed away (median of ``SMOOTH`` px): (H, W, n) float32."""
+    img = np.asarray(image, np.float32)
+    n = 3 if img.shape[2] >= 3 else 1
+    return np.dstack([cv2.medianBlur(np.ascontiguousarray(img[..., c]), SMOOTH) for c in range(n)])
 
 
 def _kmeans(x: np.ndarray, k: int, iters: int = 20) -> tuple[np.ndarray, np.ndarray]:
@@ -76,7 +79,8 @@ def ground_palette(image, background, k: int = 8, max_samples: int = 20000) -> t
 
     Returns
     -------
-    colours : (m, 3) ndarray
+    colours : (m, n) ndarray
+        n = 3 (1 for a grey image).
     shares : (m,) ndarray
 
     Examples
@@ -93,7 +97,7 @@ def ground_palette(image, background, k: int = 8, max_samples: int = 20000) -> t
         raise ValueError(f"image must be (H, W, C) with background's shape {bg.shape}, got {img.shape}")
     x = _smoothed(img)[bg].astype(np.float64)
     if len(x) == 0:
-        return np.zeros((0, 3)), np.zeros(0)
+        return np.zeros((0, x.shape[1])), np.zeros(0)
     x = x[:: max(len(x) // max_samples, 1)]
     c, lab = _kmeans(x, k)
     w = np.bincount(lab, minlength=len(c)).astype(float)
