@@ -335,7 +335,7 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
                                   matte=p.exclude_matte and not flat, example_mask=example_mask,
                                   salient=p.salient_z if p.avoid_salient else None)
         shading = None
-        patchwork = False
+        patchwork = 0.0   # the ground's typical patch diameter when it is a patchwork
         if flat_share < 0.5:
             # a patchwork of flat fields or blocks (beyond the paper, issue 23): its patches are no light
             # to divide out and put back (that made blurred blobs of field colours), nor seams to
@@ -343,7 +343,10 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
             from .patchwork import is_patchwork
 
             ground = ~(regions.forbidden | ndi.binary_dilation(regions.body | regions.branch_like, iterations=3))
-            patchwork = is_patchwork(ex, ground)
+            if is_patchwork(ex, ground):
+                from .patchwork import patch_diameter
+
+                patchwork = patch_diameter(ex, ground)
         if p.flatten_shading > 0 and flat_share < 0.5 and not patchwork:
             ex, shading = _flattened_if_shaded(ex, regions, pm_s, p.flatten_shading)
         excluded = regions.body | regions.branch_like
@@ -391,7 +394,7 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     t0 = time.perf_counter()
     frag_share = 0.6 if p.completion else 1.0
     light = None
-    if p.relight_fragments and not flat and boundary is None and not cached.get("patchwork", False):
+    if p.relight_fragments and not flat and boundary is None and not cached.get("patchwork", 0.0):
         from .gap_completion import light_layout
 
         if "light" not in cached:
@@ -406,7 +409,7 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     fill, n_inpainted = _complete(out, ex, regions, p, flat, use_poisson, pm_s, pm_t, labels_t, src_labels,
                                   rng, report, frag_share, timings,
                                   domains=None if boundary is None else (boundary.domain, target_domain),
-                                  patchwork=cached.get("patchwork", False))
+                                  patchwork=cached.get("patchwork", 0.0))
     canvas, source, frag_index, seams = out.canvas, out.source, out.frag_index, out.seams
     shown = cached["ex"]
     if cached["shading"] is not None:

@@ -14,7 +14,7 @@ import cv2
 import numpy as np
 from scipy import ndimage as ndi
 
-__all__ = ["ground_palette", "is_patchwork"]
+__all__ = ["ground_palette", "is_patchwork", "patch_diameter"]
 
 #: Colours of the ground closer than this (RGB distance) are one patch colour (grain splits none).
 MERGE = 0.06
@@ -165,3 +165,44 @@ def is_patchwork(image, background) -> bool:
     # flat patches with sharp borders: nearly every pixel is close to its patch's colour (a ramp or
     # a dune's slope passes through every colour between two of them)
     return bool(np.mean(near[bg] <= FLATNESS * float(pair.min())) >= CLEAN)
+
+
+def patch_diameter(image, background) -> float:
+    """Typical diameter (pixels) of the ground's patches: ``sqrt(ground area / number of patches)``,
+    a patch being a connected piece of one :func:`ground_palette` colour of at least 0.2 % of the
+    ground (0.0 without ground).
+
+    Parameters
+    ----------
+    image : (H, W, C) float array
+        The example.
+    background : (H, W) bool array
+        The ground's pixels.
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.zeros((64, 64, 3), np.float32); img[:32, 32:] = img[32:, :32] = 0.6
+    >>> patch_diameter(img, np.ones((64, 64), bool))
+    32.0
+    """
+    bg = np.asarray(background, bool)
+    area = np.count_nonzero(bg)
+    if area == 0:
+        return 0.0
+    colours, shares = ground_palette(image, bg)
+    colours = colours[shares >= MIN_SHARE]
+    if len(colours) == 0:
+        return 0.0
+    x = _smoothed(image)
+    lab = np.argmin(np.linalg.norm(x[..., None, :] - colours[None, None].astype(np.float32), axis=-1), axis=-1)
+    count = 0
+    for i in range(len(colours)):
+        pieces, n = ndi.label((lab == i) & bg)
+        if n:
+            count += int(np.count_nonzero(np.bincount(pieces.ravel())[1:] >= 0.002 * area))
+    return float(np.sqrt(area / max(count, 1)))
