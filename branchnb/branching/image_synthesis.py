@@ -26,7 +26,11 @@ structure (the *target*, e.g. from :mod:`branchnb.branching.synthesis`),
    the part that lands on the target skeleton.
 4. **Gap completion** (:mod:`.completion`): the rest of the image is
    quilted from branch-free example pixels with graph-cut seams, so no
-   pseudo-branch appears.
+   pseudo-branch appears. A ground of flat patches with sharp borders
+   (fields seen from the air, a city's blocks: :mod:`.patchwork`) is
+   copied as it is, in patches half a field across, with no relighting,
+   no shading put back and no gradient-domain correction of the gap
+   patches (beyond the paper: those blurred its fields into one another).
 
 The parameters not given by the paper (``wC``, the shortlist, the density
 of source fragments, the gap-completion settings) are documented in
