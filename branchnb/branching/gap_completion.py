@@ -273,7 +273,8 @@ def _complete(out, ex: np.ndarray, regions: ExampleRegions, p, flat: bool, use_p
             size = int(2 * round(np.clip(PATCHWORK_PATCH * patchwork, p.patch_size, 3 * p.patch_size) / 2))
         kw = dict(patch_size=size, overlap=p.patch_overlap, protect=(body & covered) | inner,
                   tolerance=p.completion_tolerance, forbid_weight=p.forbid_weight, min_free=p.min_free,
-                  method=p.seams, poisson=use_poisson and not patchwork, anchored=p.anchors, anchor_weight=p.anchor_weight,
+                  method=p.seams, poisson=use_poisson and not patchwork, anchored=p.anchors,
+                  anchor_weight=p.anchor_weight,
                   screen=p.completion_screen if p.anchors else 0.0, rng=rng, progress=sub_progress)
         if labels_t is None:    # the quicker window search of gap_quilting (issue 23)
             comp = quilt_gaps(canvas, covered, ex_c, regions.forbidden, **kw)
