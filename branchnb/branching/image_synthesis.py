@@ -26,7 +26,11 @@ structure (the *target*, e.g. from :mod:`branchnb.branching.synthesis`),
    the part that lands on the target skeleton.
 4. **Gap completion** (:mod:`.completion`): the rest of the image is
    quilted from branch-free example pixels with graph-cut seams, so no
-   pseudo-branch appears.
+   pseudo-branch appears. A ground of flat patches with sharp borders
+   (fields seen from the air, a city's blocks: :mod:`.patchwork`) is
+   copied as it is, in patches half a field across, with no relighting,
+   no shading put back and no gradient-domain correction of the gap
+   patches (beyond the paper: those blurred its fields into one another).
 
 The parameters not given by the paper (``wC``, the shortlist, the density
 of source fragments, the gap-completion settings) are documented in
@@ -50,6 +54,7 @@ from collections.abc import Callable
 
 import cv2
 import numpy as np
+from scipy import ndimage as ndi
 
 from ..core.image import as_float_image, as_mask, as_points
 from ..core.params import check_params
@@ -348,7 +353,19 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
                                   matte=p.exclude_matte and not flat, example_mask=example_mask,
                                   salient=p.salient_z if p.avoid_salient else None)
         shading = None
-        if p.flatten_shading > 0 and flat_share < 0.5:
+        patchwork = 0.0   # the ground's typical patch diameter when it is a patchwork
+        if flat_share < 0.5:
+            # a patchwork of flat fields or blocks (beyond the paper, issue 23): its patches are no light
+            # to divide out and put back (that made blurred blobs of field colours), nor seams to
+            # correct in the gradient domain (that smeared each field into the next)
+            from .patchwork import is_patchwork
+
+            ground = ~(regions.forbidden | ndi.binary_dilation(regions.body | regions.branch_like, iterations=3))
+            if is_patchwork(ex, ground):
+                from .patchwork import patch_diameter
+
+                patchwork = patch_diameter(ex, ground)
+        if p.flatten_shading > 0 and flat_share < 0.5 and not patchwork:
             ex, shading = _flattened_if_shaded(ex, regions, pm_s, p.flatten_shading)
         excluded = regions.body | regions.branch_like
         if regions.salient is not None:
@@ -361,6 +378,7 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         if labels_ex.max() >= 1:
             _joined_at_region_edge(sm_s, labels_ex, free_start, free_end)
         cached.update(regions=regions, ex=ex, excluded=excluded, shading=shading, lib_b=lib_b, lib_f=lib_f,
+                      patchwork=patchwork,
                       free_start=free_start, free_end=free_end, vec_cache={})
     regions, ex, excluded, lib_b, lib_f = (cached[k] for k in ("regions", "ex", "excluded", "lib_b", "lib_f"))
     if boundary is not None:
@@ -394,7 +412,7 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     t0 = time.perf_counter()
     frag_share = 0.6 if p.completion else 1.0
     light = None
-    if p.relight_fragments and not flat and boundary is None:
+    if p.relight_fragments and not flat and boundary is None and not cached.get("patchwork", 0.0):
         from .gap_completion import light_layout
 
         if "light" not in cached:
@@ -408,7 +426,8 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     timings["fragments"] = time.perf_counter() - t0
     fill, n_inpainted = _complete(out, ex, regions, p, flat, use_poisson, pm_s, pm_t, labels_t, src_labels,
                                   rng, report, frag_share, timings,
-                                  domains=None if boundary is None else (boundary.domain, target_domain))
+                                  domains=None if boundary is None else (boundary.domain, target_domain),
+                                  patchwork=cached.get("patchwork", 0.0))
     canvas, source, frag_index, seams = out.canvas, out.source, out.frag_index, out.seams
     shown = cached["ex"]
     if cached["shading"] is not None:

@@ -1,0 +1,208 @@
+"""Grounds made of flat patches with sharp borders (beyond the paper, issue 23).
+
+An aerial photo's patchwork of fields, a city map's blocks: the ground
+between the branches is a few flat colours side by side. Such a ground has
+no light to take out (its large-scale variation *is* its patches) and no
+seam to hide by a gradient-domain correction (which smears one patch's
+colour into the next): :func:`~branchnb.branching.synthesize_image` copies
+it as it is, with graph-cut seams only (see :func:`is_patchwork`).
+"""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+from scipy import ndimage as ndi
+
+__all__ = ["ground_palette", "is_patchwork", "patch_diameter"]
+
+#: Colours of the ground closer than this (RGB distance) are one patch colour (grain splits none).
+MERGE = 0.06
+#: A patchwork's pixels lie within this RGB distance of one of its patch colours ...
+NEAR = 0.1
+#: ... at least this share of them (a continuous ground, e.g. dunes or vignetting, leaves more between).
+COVERAGE = 0.9
+#: Smallest share of the ground a patch colour covers to count.
+MIN_SHARE = 0.03
+#: A pixel is clean when it lies within this fraction of the distance of the two closest patch
+#: colours from one of them ...
+FLATNESS = 0.25
+#: ... and at least this share of a patchwork's ground is clean (a quantised ramp or texture is not).
+CLEAN = 0.76
+#: Grain smoothing before the ground is measured (median filter side, pixels: keeps borders sharp).
+SMOOTH = 5
+
+
+def _smoothed(image) -> np.ndarray:
+    """The colour channels of ``image`` (at most three; a grey image's one) with their grain
+    smoothed away (median of ``SMOOTH`` px): (H, W, n) float32."""
+    img = np.asarray(image, np.float32)
+    n = 3 if img.shape[2] >= 3 else 1
+    return np.dstack([cv2.medianBlur(np.ascontiguousarray(img[..., c]), SMOOTH) for c in range(n)])
+
+
+def _kmeans(x: np.ndarray, k: int, iters: int = 20) -> tuple[np.ndarray, np.ndarray]:
+    """Deterministic k-means of the rows of ``x`` (farthest-point start): ``(centres, labels)``."""
+    centres = [x[0]]
+    d = np.linalg.norm(x - x[0], axis=1)
+    for _ in range(1, k):
+        j = int(np.argmax(d))
+        if d[j] <= 1e-6:
+            break
+        centres.append(x[j])
+        d = np.minimum(d, np.linalg.norm(x - x[j], axis=1))
+    c = np.array(centres)
+    lab = np.zeros(len(x), int)
+    for _ in range(iters):
+        lab = np.argmin(((x[:, None, :] - c[None]) ** 2).sum(2), axis=1)
+        new = np.array([x[lab == i].mean(0) if np.any(lab == i) else c[i] for i in range(len(c))])
+        if np.allclose(new, c, atol=1e-5):
+            break
+        c = new
+    return c, lab
+
+
+def ground_palette(image, background, k: int = 8, max_samples: int = 20000) -> tuple[np.ndarray, np.ndarray]:
+    """The ground's patch colours: k-means of its (grain-smoothed) colours, clusters closer than
+    :data:`MERGE` merged; ``(colours (m, 3), shares (m,))``, shares of the ground, largest first.
+
+    Parameters
+    ----------
+    image : (H, W, C) float array
+        The example (its first three channels are used).
+    background : (H, W) bool array
+        The ground's pixels.
+    k : int, default 8
+        Clusters before merging.
+    max_samples : int, default 20000
+        Ground pixels clustered (evenly strided).
+
+    Returns
+    -------
+    colours : (m, n) ndarray
+        n = 3 (1 for a grey image).
+    shares : (m,) ndarray
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.zeros((40, 40, 3), np.float32); img[:, 20:] = 0.6
+    >>> c, s = ground_palette(img, np.ones((40, 40), bool))
+    >>> len(c), bool(np.allclose(s.sum(), 1.0))
+    (2, True)
+    """
+    img = np.asarray(image, np.float32)
+    bg = np.asarray(background, bool)
+    if img.ndim != 3 or img.shape[:2] != bg.shape:
+        raise ValueError(f"image must be (H, W, C) with background's shape {bg.shape}, got {img.shape}")
+    x = _smoothed(img)[bg].astype(np.float64)
+    if len(x) == 0:
+        return np.zeros((0, x.shape[1])), np.zeros(0)
+    x = x[:: max(len(x) // max_samples, 1)]
+    c, lab = _kmeans(x, k)
+    w = np.bincount(lab, minlength=len(c)).astype(float)
+    # merge the closest pair until every two colours differ by MERGE (grain and shading split clusters)
+    c, w = list(c), list(w)
+    while len(c) > 1:
+        arr = np.array(c)
+        d = np.linalg.norm(arr[:, None] - arr[None], axis=2) + np.eye(len(c)) * 1e9
+        i, j = np.unravel_index(int(np.argmin(d)), d.shape)
+        if d[i, j] >= MERGE:
+            break
+        c[i] = (c[i] * w[i] + c[j] * w[j]) / (w[i] + w[j])
+        w[i] += w[j]
+        del c[j], w[j]
+    arr, w = np.array(c), np.array(w) / max(sum(w), 1.0)
+    order = np.argsort(-w)
+    return arr[order], w[order]
+
+
+def is_patchwork(image, background) -> bool:
+    """Whether the ground (``background`` pixels of ``image``) is a patchwork of flat colours.
+
+    True when at least two colours of :func:`ground_palette` each cover
+    :data:`MIN_SHARE` of the ground, :data:`COVERAGE` of the ground lies within
+    :data:`NEAR` of one of them, and inside the patches (each colour's pixels
+    eroded by 3 px) the colour spreads by less than :data:`FLATNESS` of the
+    distance of the two closest colours. A smooth ramp (vignetting, dunes),
+    grain or blotchy texture (a forest, a fundus, clouds) is none: its
+    colours merge into one, or its quantised bands are no flat patches.
+
+    Parameters
+    ----------
+    image : (H, W, C) float array
+        The example.
+    background : (H, W) bool array
+        The ground's pixels (no branch, no matte).
+
+    Returns
+    -------
+    bool
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.full((64, 64, 3), 0.3, np.float32); img[:, 32:] = (0.7, 0.6, 0.4)
+    >>> ramp = np.dstack([np.tile(np.linspace(0.2, 0.8, 64), (64, 1))] * 3).astype(np.float32)
+    >>> bg = np.ones((64, 64), bool)
+    >>> is_patchwork(img, bg), is_patchwork(ramp, bg)
+    (True, False)
+    """
+    bg = np.asarray(background, bool)
+    if np.count_nonzero(bg) < 256:
+        return False
+    colours, shares = ground_palette(image, bg)
+    keep = shares >= MIN_SHARE
+    if np.count_nonzero(keep) < 2:
+        return False
+    colours = colours[keep]
+    x = _smoothed(image)
+    d = np.linalg.norm(x[..., None, :] - colours[None, None].astype(np.float32), axis=-1)
+    near = d.min(axis=-1)
+    if float(np.mean(near[bg] <= NEAR)) < COVERAGE:
+        return False
+    pair = np.linalg.norm(colours[:, None] - colours[None], axis=2) + np.eye(len(colours)) * 1e9
+    # flat patches with sharp borders: nearly every pixel is close to its patch's colour (a ramp or
+    # a dune's slope passes through every colour between two of them)
+    return bool(np.mean(near[bg] <= FLATNESS * float(pair.min())) >= CLEAN)
+
+
+def patch_diameter(image, background) -> float:
+    """Typical diameter (pixels) of the ground's patches: ``sqrt(ground area / number of patches)``,
+    a patch being a connected piece of one :func:`ground_palette` colour of at least 0.2 % of the
+    ground (0.0 without ground).
+
+    Parameters
+    ----------
+    image : (H, W, C) float array
+        The example.
+    background : (H, W) bool array
+        The ground's pixels.
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.zeros((64, 64, 3), np.float32); img[:32, 32:] = img[32:, :32] = 0.6
+    >>> patch_diameter(img, np.ones((64, 64), bool))
+    32.0
+    """
+    bg = np.asarray(background, bool)
+    area = np.count_nonzero(bg)
+    if area == 0:
+        return 0.0
+    colours, shares = ground_palette(image, bg)
+    colours = colours[shares >= MIN_SHARE]
+    if len(colours) == 0:
+        return 0.0
+    x = _smoothed(image)
+    lab = np.argmin(np.linalg.norm(x[..., None, :] - colours[None, None].astype(np.float32), axis=-1), axis=-1)
+    count = 0
+    for i in range(len(colours)):
+        pieces, n = ndi.label((lab == i) & bg)
+        if n:
+            count += int(np.count_nonzero(np.bincount(pieces.ravel())[1:] >= 0.002 * area))
+    return float(np.sqrt(area / max(count, 1)))
