@@ -508,7 +508,8 @@ def _mirror(i: np.ndarray, n: int) -> np.ndarray:
     return np.where(i < n, i, 2 * n - 1 - i)
 
 
-def draw_in_style(style: DrawingStyle, structure: Structure, labels: np.ndarray) -> np.ndarray:
+def draw_in_style(style: DrawingStyle, structure: Structure, labels: np.ndarray, *,
+                  lines: bool = True) -> np.ndarray:
     """Draw ``structure`` over the region map ``labels`` in ``style``; (H, W, C) float32.
 
     Regions are filled with their colours (or the example's own pixels of
@@ -535,6 +536,9 @@ def draw_in_style(style: DrawingStyle, structure: Structure, labels: np.ndarray)
     labels : (H, W) int ndarray
         Region label of every pixel, indexing ``style.region_colours``
         (out-of-range labels are clipped).
+    lines : bool, default True
+        Draw the branches; False = the regions and the boundary line only
+        (the ground a glowing example's light is added to, :mod:`.glow`).
 
     Returns
     -------
@@ -567,6 +571,8 @@ def draw_in_style(style: DrawingStyle, structure: Structure, labels: np.ndarray)
 
     if style.boundary_colour is not None:
         img[...] = draw_boundary(img, inside, style.boundary_colour, style.boundary_width)
+    if not lines:
+        return np.clip(img, 0.0, 1.0)
     clear = 2.0 * style.boundary_width + 2.0 if style.boundary_colour is not None else 0.0
     s = _to_outlets(structure, inside, style.outlet_reach, style.tip_reach, clear)
     radii = [b.thickness for b in s.branches]

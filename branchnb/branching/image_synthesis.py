@@ -36,7 +36,8 @@ Modules by paper step: :mod:`.fragments` and :mod:`.fragment_choice`
 (step 1: fragments, costs ``S`` and ``C``, the copy rules),
 :mod:`.fragment_placement` (steps 2-3: bending and composing every
 fragment), :mod:`.gap_completion` (step 4), and :mod:`.output_regions`
-(flat-colour examples: the output's regions and drawing in style).
+(flat-colour examples: the output's regions and drawing in style), :mod:`.glow`
+(glowing lines on a flat ground, lightning or neon: drawn with the example's glow, beyond the paper).
 The settings are :class:`~branchnb.branching.image_params.ImageSynthesisParams`,
 the result :class:`~branchnb.branching.image_result.ImageSynthesisResult`; the
 example side of the last call is kept in :mod:`.example_cache`.
@@ -275,6 +276,19 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         return _flat_hubs(_draw_flat(ex, example_structure, target_structure, labels_ex, None, None,
                                      pm_s, labels_ex, p, t_start, report, (H, W), cache=cached),
                           ex, example_structure, target_structure, given)
+    if not flat and p.flat_drawing and flat_share >= 0.5 and labels_ex.max() == 0 \
+            and not getattr(example_structure, "hubs", None):
+        # beyond the paper (issue 23): glowing lines on one flat ground (a fluorescent cell on black, neon
+        # on a plain wall) are drawn with the example's glow (.glow); copied fragment by fragment, the
+        # glow reached only as far as the fragments' disks (3 r) and ended in a step to the ground
+        if "flat_glow" not in cached:
+            from .glow import glow_model
+
+            cached["flat_glow"] = glow_model(ex, pm_s, labels_ex)
+        if cached["flat_glow"] is not None:
+            return _flat_hubs(_draw_flat(ex, example_structure, target_structure, labels_ex, None, None,
+                                         pm_s, labels_ex, p, t_start, report, (H, W), cache=cached),
+                              ex, example_structure, target_structure, given)
     labels_t = None
     src_labels = labels_ex
     layout = labels_ex

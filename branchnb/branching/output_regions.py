@@ -10,6 +10,7 @@ and :func:`_draw_flat` draws the target the way the example is drawn
 from __future__ import annotations
 
 import time
+from dataclasses import replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -118,16 +119,35 @@ def _draw_flat(ex, example_structure, target_structure, layout, labels_t, target
 
     report(0.1, "measuring the example's drawing style")
     style = None if cache is None else cache.get("flat_style")
+    glow = None if cache is None else cache.get("flat_glow", False)
     if style is None:
         style = drawing_style(ex, example_structure, layout, pm_s)
+        if glow is False:
+            # beyond the paper (issue 23): glowing lines (lightning, neon) light their ground; the
+            # ground's colours and textures are measured without that light (no ghost of the example's
+            # lines) and the light is added around the output's lines (.glow)
+            from .glow import glow_model
+
+            glow = glow_model(ex, pm_s, layout)
+        if glow is not None:
+            clean = drawing_style(glow.ground, example_structure, layout, pm_s)
+            style = replace(style, region_colours=clean.region_colours, region_textures=glow.region_textures(layout),
+                            boundary_colour=clean.boundary_colour, boundary_width=clean.boundary_width)
         if cache is not None:
             cache["flat_style"] = style
+            cache["flat_glow"] = glow
     H, W = shape
     if labels_t is None:
         labels_t = _domain_labels(layout, pm_s, target_domain) if target_domain is not None else \
             np.full((H, W), style.branch_region, np.int32)
     report(0.5, "drawing")
-    img = draw_in_style(style, target_structure, labels_t)
+    if glow is not None:
+        from .skeleton_map import SkeletonMap
+
+        img = glow.paint(draw_in_style(style, target_structure, labels_t, lines=False),
+                         SkeletonMap(target_structure, 1.0).pixel_map((H, W)))
+    else:
+        img = draw_in_style(style, target_structure, labels_t)
     report(1.0, "done")
     z = np.zeros((H, W), bool)
     return ImageSynthesisResult(img, z, z.copy(), np.full((H, W, 2), np.nan), np.full((H, W), -1, np.int64),

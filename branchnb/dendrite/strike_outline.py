@@ -31,9 +31,15 @@ of the smaller part's inscribed radius and the part is round): least outline cov
 0.80, a snowman 0.04 / 0.11 -> 0.77 / 0.85, two pebbles 0.07 / 0.10 -> 0.70 / 0.82, discs of
 radii 1 and 0.7 0.05 / 0.05 -> 0.64 / 0.86; discs, ellipses, squares, bumpy blobs, capsules,
 bananas and worms of varying width at 128-1000 px stay one part.
-Limits: a 2 x 2 cluster of discs whose middle fills in is one blob (its deepest point in
-the middle, no neck); letters of one colour touching side by side are one part (their
-join is as wide as two strokes); letters under ``OUTLINE_MIN_PART`` of the picture (a line of small
+A piece with no neck is cut at its outline's notches (:func:`~branchnb.dendrite.strike_notch.split_at_notches`,
+dendrite43): a 2 x 2 cluster of discs whose middle fills in (its deepest point in the middle)
+and a bold word of one colour whose letters touch side by side (their join as wide as two
+strokes). Least outline coverage (ink within 4 px of each object's own outline) before ->
+after at 256 / 768 px: bold "HAM" 0.07 / 0.07 -> 0.58 / 0.84, "MOON" 0.10 / 0.07 -> 0.41 /
+0.74, a 2 x 2 cluster of discs 1.4 radii apart 0.17 / 0.08 -> 0.41 / 0.57 (only ~0.5 of each
+disc's own outline lies on the cluster's outline, the rest inside; on that share 0.51 /
+0.93); single bold letters M, W (0.12-0.20) and the thin and multi-object kinds of
+``_thin_check``, ``_thin_branch_check`` and ``_multi_bolt_check`` keep their parts. Limits: letters under ``OUTLINE_MIN_PART`` of the picture (a line of small
 text) keep the paper's bolt; a thin piece without a core (a pole) counts as a part but is not
 split.
 
@@ -76,9 +82,11 @@ def outline_parts(sil: np.ndarray, min_part: float = OUTLINE_MIN_PART,
     """Label image of a silhouette's parts of at least ``min_part`` of the picture each (0
     elsewhere): its 8-connected pieces, split where they join through a neck narrower than
     ``2 x neck`` of the diagonal (letters and fruits whose blurred edges or shadows touch),
-    every pixel going to the nearest part; then split by colour (with ``image``) and where
+    every pixel going to the nearest part; then split by colour (with ``image``), where
     round parts meet at a neck much narrower than each (:func:`split_by_shape`: two
-    overlapping discs, apples side by side).
+    overlapping discs, apples side by side) and, with no neck, at the outline's notches
+    (:func:`~branchnb.dendrite.strike_notch.split_at_notches`: a 2 x 2 cluster of discs,
+    the touching letters of a bold word).
 
     Parameters
     ----------
@@ -200,7 +208,9 @@ def split_by_shape(piece: np.ndarray, least: float, neck: float = SHAPE_SPLIT_NE
     Beyond the papers (dendrite42): objects of one colour touching along a wide stretch
     (overlapping discs, two apples side by side) were one part, and the bolt traced them as
     one (their least outline coverage 0.05-0.3). Letters of a bold word touching side by
-    side are not split: their join is as wide as two strokes, no neck.
+    side are not split here (their join is as wide as two strokes, no neck), nor is a 2 x 2
+    cluster of discs (its middle is its deepest point):
+    :func:`~branchnb.dendrite.strike_notch.split_at_notches` cuts those.
 
     Examples
     --------
@@ -282,21 +292,32 @@ def split_by_shape(piece: np.ndarray, least: float, neck: float = SHAPE_SPLIT_NE
 
 def _shape_parts(lab_img: np.ndarray, count: int, min_part: float) -> tuple[np.ndarray, int]:
     """The part labels ``lab_img`` (1..count) with every part split by shape
-    (:func:`split_by_shape`)."""
+    (:func:`split_by_shape`, else
+    :func:`~branchnb.dendrite.strike_notch.split_at_notches`), and their parts again."""
+    from .strike_notch import split_at_notches
+
     least = min_part * lab_img.size
     out = lab_img.copy()
-    for k in range(1, count + 1):
+    # a piece with no neck may still come apart at its outline's notches (a 2 x 2 cluster of
+    # discs, a bold word), and its sides again, at a neck or at notches (dendrite43)
+    todo = [(k, 0) for k in range(1, count + 1)]
+    while todo:
+        k, depth = todo.pop()
         piece = out == k
-        if piece.sum() < 2 * least:
+        if depth >= 8 or piece.sum() < 2 * least:
             continue
         box = ndimage.find_objects(piece.astype(np.int8))[0]
         split = split_by_shape(piece[box], least)
         if split is None:
-            continue
+            split = split_at_notches(piece[box], least)
+            if split is None:
+                continue
         sub = out[box]
         for j in range(2, int(split.max()) + 1):
             count += 1
             sub[split == j] = count
+            todo.append((count, depth + 1))
+        todo.append((k, depth + 1))
     return out, count
 
 

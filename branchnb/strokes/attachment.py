@@ -13,12 +13,11 @@ from __future__ import annotations
 
 import numpy as np
 from scipy import ndimage as ndi
-from skimage.morphology import disk
 
 from .centring import centre_stroke
 from .hips import restore_hip
 from .junctions import exit_length
-from .parts import add_bases, carry_frame, rigid_frame
+from .parts import _closed_by_disk, _opened_by_disk, add_bases, carry_frame, rigid_frame
 from .strokes import StrokePair, make_pairs
 
 __all__: list[str] = []
@@ -230,7 +229,7 @@ def _trim_body(index, part) -> None:
     # a strip beside the stroke past its start, thinner than the part (the body's own flesh there
     # is thick: it stays)
     r = max(1, int(round(0.5 * float(np.median(half)))))
-    thin = part.mask & ~ndi.binary_opening(part.mask, structure=disk(r))
+    thin = part.mask & ~_opened_by_disk(part.mask, r)
     rim = thin & (s_loc > start) & (off <= 1.5 * half + 2.0)
     # and keeps what the stroke's start claimed inside it (a hole where the tail's tube began in the hip)
     # (the pixels behind the stroke's start, which its tube's cap claimed, are the body's)
@@ -243,7 +242,7 @@ def _trim_body(index, part) -> None:
     slot = (s_loc <= exit_s) & (off <= 1.5 * half + 2.0)
     wide = max(1, int(round(float(index.half_width(k, 0.0)))) + 2)
     pad = wide + 1
-    closed = ndi.binary_closing(np.pad(body, pad), structure=disk(wide))[pad:-pad, pad:-pad]
+    closed = _closed_by_disk(np.pad(body, pad), wide)[pad:-pad, pad:-pad]
     body |= closed & slot
     # and the convex cap of its contour where the tail left it (closing fills notches only: a bite
     # out of the hip once the tail swung away)

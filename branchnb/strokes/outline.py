@@ -546,6 +546,17 @@ def _close_rim_cracks(layer: np.ndarray) -> np.ndarray:
     the colour of its more opaque neighbour and the lesser of their alphas (a
     soft rim pixel: the silhouette, alpha > 0.5, stays as it was). Beyond the
     paper.
+
+    Notes
+    -----
+    A crack pixel between two opaque neighbours is also the mouth of a
+    one-pixel slit (the notch of a petal, the gap where two fingers nearly
+    touch): closed, it shut the slit off behind it into a pinhole of
+    background (issue 25: this pass runs last, after the pinhole pass). A
+    crack pixel whose closing would enclose background (alpha <= 0.5) that
+    reached the background round the object before is left open (again
+    after each reopening, until none encloses any); a slit that stays open
+    is the source's own or was left open by the closings before.
     """
     rows, cols = np.flatnonzero(layer[..., 3].any(axis=1)), np.flatnonzero(layer[..., 3].any(axis=0))
     if not len(rows):
@@ -586,6 +597,42 @@ def _close_rim_cracks_box(layer: np.ndarray) -> np.ndarray | None:
         sr, sc = (rs + 1 + d, cs + 1) if axis == 0 else (rs + 1, cs + 1 + d)
         out[rs + 1, cs + 1, :3] = layer[sr, sc, :3]
         out[rs + 1, cs + 1, 3] = lo[rs, cs]
+    if out is not None:
+        out = _open_slit_mouths(layer, out)
+    return out
+
+
+def _enclosed_open(a: np.ndarray) -> np.ndarray:
+    """Pixels open at the silhouette's level (4-connected) that do not reach the box's border:
+    at either reading of it (alpha <= 0.5, alpha < 0.5; a closing to exactly 0.5 shuts a
+    pocket in at the second)."""
+    out = np.zeros(a.shape, bool)
+    for open_ in (a <= 0.5, a < 0.5):
+        lab, n = ndi.label(open_)
+        if n == 0:
+            continue
+        inner = np.ones(n + 1, bool)
+        inner[np.unique(np.r_[lab[0], lab[-1], lab[:, 0], lab[:, -1]])] = False
+        inner[0] = False
+        out |= inner[lab]
+    return out
+
+
+def _open_slit_mouths(layer: np.ndarray, out: np.ndarray) -> np.ndarray:
+    """``out`` (``layer`` with its rim cracks closed) with the closings that shut background
+    in reverted (see :func:`_close_rim_cracks`, Notes)."""
+    before = _enclosed_open(layer[..., 3])
+    closed = out[..., 3] != layer[..., 3]
+    for _ in range(8):
+        new = _enclosed_open(out[..., 3]) & ~before
+        if not new.any():
+            break
+        # (each closing touching a pocket it shut in: a mouth, reopened as it was)
+        mouth = closed & ndi.binary_dilation(new, structure=np.ones((3, 3), bool))
+        if not mouth.any():
+            break
+        out[mouth] = layer[mouth]
+        closed &= ~mouth
     return out
 
 
@@ -718,12 +765,24 @@ def drop_flecks(layer: np.ndarray, source_alpha: np.ndarray, *, level: float = 0
         # not a piece whose faint pixels join two others (a toe's solid link at 100 px):
         # removing it would split the object
         rest, _ = ndi.label((layer[..., 3] > 0.02) & ~gone, structure=eight)
+        rest_sizes = np.bincount(rest.ravel())
+        # (faint only: no pixel above the level)
+        faint = np.asarray(ndi.maximum(layer[..., 3], rest, np.arange(len(rest_sizes)))) <= level
         boxes = ndi.find_objects(lab)
         for i in np.flatnonzero(small) + 1:
             sl = tuple(slice(max(b.start - 1, 0), b.stop + 1) for b in boxes[i - 1])
-            ring = ndi.binary_dilation(lab[sl] == i, structure=eight) & (rest[sl] > 0)
-            if len(np.unique(rest[sl][ring])) > 1:
+            grown = ndi.binary_dilation(lab[sl] == i, structure=eight)
+            ring = grown & (rest[sl] > 0)
+            near = np.unique(rest[sl][ring])
+            # (the dot's own faint rim, cut off from the object with it -- faint pixels all
+            # within a pixel of the dot -- is no piece it joins: a 3 px solid dot beside a
+            # notched petal's tip stayed for it; it goes with the dot. A faint toe beyond it is.)
+            inside = np.bincount(rest[sl][ring], minlength=len(rest_sizes))
+            own = near[faint[near] & (inside[near] == rest_sizes[near])]
+            if len(near) - len(own) > 1:
                 gone[sl] &= lab[sl] != i
+            elif len(own):
+                gone |= np.isin(rest, own)
     if not gone.any():
         return layer
     out = layer.copy()

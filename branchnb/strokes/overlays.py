@@ -17,6 +17,8 @@ from __future__ import annotations
 import numpy as np
 from scipy import ndimage as ndi
 
+from ..core.distance import edt as _edt
+
 __all__: list[str] = []
 
 #: Alpha from which a stroke's own (laid alone) pixel is flesh.
@@ -114,7 +116,8 @@ def _overlaid_parts(layer: np.ndarray, placed: list, junctions: list, index, att
     def away(k, src):
         # px from each pixel's source place to stroke k's own flesh in the source
         if k not in apart:
-            apart[k] = ndi.distance_transform_edt(~(index.allowed[k] & index.object))
+            # (OpenCV's exact transform: SciPy's values, ~4x faster on a large canvas)
+            apart[k] = _edt(~(index.allowed[k] & index.object))
         d = apart[k]
         hs, ws = d.shape
         x = np.clip(np.rint(np.nan_to_num(src[..., 0], nan=-1)), -1, ws).astype(np.intp)

@@ -462,8 +462,7 @@ def add_bases(parts: list[Part], index, window: float) -> None:
             # the tip's own tube inside the part (a stalk drawn into its berry) goes with it:
             # the part's patch covers the slot the stalk's cut end leaves there
             rad = int(np.ceil(part.tip[2])) + 3
-            disk = np.hypot(*np.mgrid[-rad:rad + 1, -rad:rad + 1]) <= rad
-            closed = ndi.binary_closing(np.pad(comp, rad + 1), structure=disk)[rad + 1:-rad - 1, rad + 1:-rad - 1]
+            closed = _closed_by_disk(np.pad(comp, rad + 1), rad)[rad + 1:-rad - 1, rad + 1:-rad - 1]
             base |= closed & ~comp & (index.premult[big][..., 3] > 0.02)
         part.box, part.mask, part.base = big, comp, base
         ys, xs = np.nonzero(comp)
@@ -669,3 +668,31 @@ def place_part(part: Part, premult: np.ndarray, forward: np.ndarray, shape) -> t
     base = valid & (lab[..., 1] > lab[..., 0])
     del hh, ww
     return pix.astype(np.float32), valid, base, (int(x0), int(y0)), inverse
+
+
+def _eroded_by_disk(mask: np.ndarray, r: int) -> np.ndarray:
+    """``ndi.binary_erosion(mask, disk(r))`` (outside the array counts as False), exactly: a
+    pixel stays when no False pixel lies within ``r`` px (distance transforms, whose cost does
+    not grow with ``r``: a palm's ~57 px disk took SciPy 4 s on a 600 px hand)."""
+    if not mask.any():
+        return np.zeros(mask.shape, bool)
+    return _edt(np.pad(mask, 1))[1:-1, 1:-1] > r
+
+
+def _dilated_by_disk(mask: np.ndarray, r: int) -> np.ndarray:
+    """``ndi.binary_dilation(mask, disk(r))``, exactly: within ``r`` px of a True pixel."""
+    if not mask.any():
+        return np.zeros(mask.shape, bool)
+    if mask.all():
+        return np.ones(mask.shape, bool)
+    return _edt(~mask) <= r
+
+
+def _opened_by_disk(mask: np.ndarray, r: int) -> np.ndarray:
+    """``ndi.binary_opening(mask, structure=disk(r))``, exactly."""
+    return _dilated_by_disk(_eroded_by_disk(mask, r), r)
+
+
+def _closed_by_disk(mask: np.ndarray, r: int) -> np.ndarray:
+    """``ndi.binary_closing(mask, structure=disk(r))``, exactly."""
+    return _eroded_by_disk(_dilated_by_disk(mask, r), r)

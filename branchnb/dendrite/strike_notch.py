@@ -1,0 +1,264 @@
+"""Touching objects of one colour cut apart between the notches of their outline (issue 25,
+dendrite43; beyond the papers). Used by :func:`~branchnb.dendrite.strike_outline.outline_parts`
+after :func:`~branchnb.dendrite.strike_outline.split_by_shape`.
+
+The distance map's watershed of :func:`~branchnb.dendrite.strike_outline.split_by_shape` needs a
+neck; a 2 x 2 cluster of discs has none (its middle fills in and is its deepest point) and
+neither do bold letters touching side by side (their join is as wide as two strokes). Both
+still show where they meet on their outline: a sharp notch, where the outline turns back on
+itself. :func:`split_at_notches` cuts a piece along a straight segment from such a notch,
+inside the piece, when
+
+* both ends are sharp notches and both sides are round (convex) parts: discs, fruits,
+  pebbles in a cluster (:data:`NOTCH_ROUND_SOLID`), or
+* the piece is a row of strokes (a word: at least :data:`NOTCH_ROW_ASPECT` times as long as it
+  is high and :data:`NOTCH_ROW_STROKES` stroke widths high) and the cut, from a notch sharper
+  than :data:`NOTCH_ROW_ANGLE`, crosses at most :data:`NOTCH_ROW_CUT` stroke widths, each side
+  at least :data:`NOTCH_ROW_SIDE` of the row's height long: a letter's join to its neighbour.
+  A single letter ("M", "W") is no row and stays whole; so do worms and bananas (their
+  bends are no sharp notches).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy import ndimage
+
+__all__: list[str] = []
+
+#: Sharpest outline angle (degrees, between the outline 0.35 inscribed radii to either side) at
+#: a notch that :func:`split_at_notches` cuts from between round parts: two discs meeting at
+#: 1.4 radii make ~105-140, a bumpy blob's dents and a capsule's sides ~165-180.
+NOTCH_ROUND_ANGLE = 145.0
+#: Least depth of a notch (below the convex hull) over the piece's inscribed radius.
+NOTCH_DEPTH = 0.1
+#: Largest angle (degrees) between a cut between round parts and either notch's halving line.
+NOTCH_ROUND_AIM = 30.0
+#: Least solidity (area over convex hull area) of both sides of a cut between round parts
+#: (two overlapping discs ~0.96-0.99; halves of a bold letter 0.75-0.91).
+NOTCH_ROUND_SOLID = 0.93
+#: A row of strokes is at least this many times as long as it is high (two bold capitals
+#: touching 1.75-2, one 1.0-1.2, a lowercase "m" 1.56)...
+NOTCH_ROW_ASPECT = 1.7
+#: ... and at least this many stroke widths high (a bold word ~5; a worm ~3, a capsule 1).
+NOTCH_ROW_STROKES = 3.0
+#: Sharpest angle at a notch from which a row is cut (letter joins 20-70, worms' bends 135+).
+NOTCH_ROW_ANGLE = 100.0
+#: Longest cut across a row, in stroke widths (a join of two letters 0.7-1.7).
+NOTCH_ROW_CUT = 2.0
+#: Largest angle (degrees) between a cut across a row and the row's normal.
+NOTCH_ROW_ACROSS = 30.0
+#: Least length of each side of a cut row along it, over the row's height (a narrow letter
+#: such as "I" ~0.3).
+NOTCH_ROW_SIDE = 0.25
+
+
+def _outline(piece: np.ndarray) -> np.ndarray:
+    import cv2
+
+    cs, _ = cv2.findContours(piece.astype(np.uint8), cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
+    return max(cs, key=len)[:, 0, :].astype(np.int64) if cs else np.zeros((0, 2), np.int64)
+
+
+def _notches(c: np.ndarray, least_depth: float,
+             reach: int) -> list[tuple[int, float, np.ndarray]]:
+    """Indices along the outline ``c`` of its notches at least ``least_depth`` below the
+    convex hull, with their angle (degrees) between the outline ``reach`` points away and the
+    unit vector halving it into the piece."""
+    import cv2
+
+    if len(c) < 8:
+        return []
+    hull = cv2.convexHull(c.astype(np.int32), returnPoints=False, clockwise=False)
+    try:
+        d = cv2.convexityDefects(c.astype(np.int32), hull)
+    except cv2.error:  # a self-touching outline: its hull indices are not monotone
+        return []
+    if d is None:
+        return []
+    n = len(c)
+    out = []
+    for _, _, f, s in d.reshape(-1, 4):
+        if s / 256.0 < least_depth:
+            continue
+        a = c[(f - reach) % n] - c[f]
+        b = c[(f + reach) % n] - c[f]
+        la, lb = max(float(np.linalg.norm(a)), 1e-9), max(float(np.linalg.norm(b)), 1e-9)
+        cos = float(a @ b) / (la * lb)
+        # the outline either side of a notch bends outwards: its halving line points in
+        into = -(a / la + b / lb)
+        into = into / max(float(np.linalg.norm(into)), 1e-9)
+        out.append((int(f), float(np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))), into))
+    return out
+
+
+def _area_solidity(pts: np.ndarray) -> tuple[float, float]:
+    import cv2
+
+    p = pts.astype(np.float32)
+    a = abs(float(cv2.contourArea(p)))
+    h = float(cv2.contourArea(cv2.convexHull(p)))
+    return a, a / max(h, 1e-9)
+
+
+def _inside(piece: np.ndarray, p: np.ndarray, q: np.ndarray) -> bool:
+    t = np.linspace(0.0, 1.0, max(2, int(np.hypot(*(q - p))) + 1))
+    xy = np.rint(p[None] + t[:, None] * (q - p)[None]).astype(int)
+    return bool(piece[xy[:, 1], xy[:, 0]].all())
+
+
+def _cut(piece: np.ndarray, segments: list, least: float) -> np.ndarray | None:
+    """Labels 1..n of ``piece`` cut along the segments ``(p, q)`` (None when they do not part
+    it into two or more pieces of at least ``least`` pixels); the segments' pixels and the
+    crumbs go to the nearest piece."""
+    import cv2
+
+    line = np.zeros(piece.shape, np.uint8)
+    for p, q in segments:
+        cv2.line(line, (int(p[0]), int(p[1])), (int(q[0]), int(q[1])), 1, 3)
+    lab, n = ndimage.label(piece & (line == 0), np.ones((3, 3), bool))
+    if n < 2:
+        return None
+    sizes = np.bincount(lab.ravel())[1:]
+    big = np.flatnonzero(sizes >= least)
+    if big.size < 2:
+        return None
+    seeds = np.zeros(piece.shape, np.int64)
+    for k, b in enumerate(big, 1):
+        seeds[lab == b + 1] = k
+    _, (iy, ix) = ndimage.distance_transform_edt(seeds == 0, return_indices=True)
+    return np.where(piece, seeds[iy, ix], 0)
+
+
+def split_at_notches(piece: np.ndarray, least: float) -> np.ndarray | None:
+    """Labels (1..n; 0 off ``piece``) of ``piece`` cut along straight segments from a
+    sharp notch of its outline (a 2 x 2 cluster of discs, letters of a bold word touching side
+    by side), or None when no cut qualifies (see the module's rules).
+
+    Parameters
+    ----------
+    piece : (H, W) bool ndarray
+        One connected part of a silhouette.
+    least : float
+        Least pixels of each side.
+
+    Returns
+    -------
+    (H, W) int ndarray or None
+
+    Notes
+    -----
+    Beyond the papers (dendrite43). Of the cuts between two sharp notches whose sides are
+    both round the one with the roundest sides is taken; else, on a row of strokes, the
+    shortest cut from a sharp notch. Applied again on the sides (by
+    :func:`~branchnb.dendrite.strike_outline.outline_parts`), a cluster comes apart disc by
+    disc and a word letter by letter (or in pairs of letters that are no row any more).
+
+    Examples
+    --------
+    >>> y, x = np.mgrid[0:120, 0:120]
+    >>> four = np.zeros((120, 120), bool)
+    >>> for cx in (42, 78):
+    ...     for cy in (42, 78):
+    ...         four |= np.hypot(x - cx, y - cy) < 28
+    >>> out = split_at_notches(four, 300)
+    >>> int(out.max()), len({int(out[30, 30]), int(out[30, 90]), int(out[90, 30]), int(out[90, 90])})
+    (4, 4)
+    >>> split_at_notches(np.hypot(x - 60, y - 60) < 40, 300) is None  # a disc
+    True
+    """
+    import cv2
+
+    piece = np.asarray(piece, bool)
+    if piece.ndim != 2:
+        raise ValueError(f"piece must be 2-D, got shape {piece.shape}")
+    if piece.sum() < 2 * least:
+        return None
+    depth = ndimage.distance_transform_edt(np.pad(piece, 1))[1:-1, 1:-1]
+    rin = float(depth.max())
+    if rin < 2.0:
+        return None
+    from skimage.morphology import skeletonize
+
+    axis = skeletonize(piece) & (depth > 0)
+    stroke = 2.0 * float(np.median(depth[axis])) if axis.any() else 2.0 * rin
+    c = _outline(piece)
+    n = len(c)
+    # the notch's angle is read a third of the inscribed radius away (a quarter stroke width
+    # on a bold letter; the skeleton of a symmetric cluster can shrink to a point)
+    notches = _notches(c, NOTCH_DEPTH * rin, max(3, int(round(0.35 * rin))))
+    if not notches:
+        return None
+    step = max(1, n // 400)  # a 1000-px outline's every pixel is not needed as a cut's end
+    idx = np.arange(0, n, step)
+
+    def sides(i: int, j: int) -> tuple[float, float, float, float]:
+        a, b = (i, j) if i < j else (j, i)
+        return (*_area_solidity(c[a:b + 1]), *_area_solidity(np.vstack([c[b:], c[:a + 1]])))
+
+    # round parts: cuts between two sharp notches, both sides convex, that run into the
+    # piece along both notches' halving lines (a cut from one disc's notch to the next
+    # disc's slices a disc off a 2 x 2 cluster's diagonal and leaves the other two joined);
+    # all made at once (the cluster's two cuts cross in its middle)
+    aim = np.cos(np.radians(NOTCH_ROUND_AIM))
+    segments = []
+    sharp = [nt for nt in notches if nt[1] <= NOTCH_ROUND_ANGLE]
+    for u in range(len(sharp)):
+        for v in range(u + 1, len(sharp)):
+            (i, _, di), (j, _, dj) = sharp[u], sharp[v]
+            e = (c[j] - c[i]) / max(float(np.hypot(*(c[j] - c[i]))), 1e-9)
+            if min(float(di @ e), float(-(dj @ e))) < aim:
+                continue
+            a1, s1, a2, s2 = sides(i, j)
+            if min(a1, a2) < least or min(s1, s2) < NOTCH_ROUND_SOLID or not _inside(piece, c[i], c[j]):
+                continue
+            segments.append((c[i], c[j]))
+    if segments:
+        out = _cut(piece, segments, least)
+        if out is not None:
+            return out
+    # a row of strokes: the shortest cut from a sharp notch that leaves two long sides
+    (_, _), (rw, rh), _ = cv2.minAreaRect(c.astype(np.float32))
+    long, high = max(rw, rh), min(rw, rh)
+    if long < NOTCH_ROW_ASPECT * high or high < NOTCH_ROW_STROKES * stroke:
+        return None
+    (cx, cy), (ex, ey) = _axis(c)
+    along = (c[:, 0] - cx) * ex + (c[:, 1] - cy) * ey
+    cands = []
+    across = np.sin(np.radians(NOTCH_ROW_ACROSS))
+    for i, ang, _ in notches:
+        if ang > NOTCH_ROW_ANGLE:
+            continue
+        dist = np.hypot(*(c[idx] - c[i]).T)
+        arc = np.abs(idx - i)
+        arc = np.minimum(arc, n - arc)
+        # a join between letters side by side runs across the row, a cut through a
+        # letter's diagonal (an "M"'s, an "N"'s) or along its bar does not
+        slant = np.abs((c[idx, 0] - c[i, 0]) * ex + (c[idx, 1] - c[i, 1]) * ey)
+        ok = ((dist <= NOTCH_ROW_CUT * stroke) & (arc >= 1.25 * dist + 2)
+              & (slant <= across * np.maximum(dist, 1e-9)))
+        for j in idx[ok][np.argsort(dist[ok])]:
+            a, b = (i, j) if i < j else (j, i)
+            s1, s2 = along[a:b + 1], np.concatenate([along[b:], along[:a + 1]])
+            if min(np.ptp(s1), np.ptp(s2)) < NOTCH_ROW_SIDE * high:
+                continue
+            a1, _, a2, _ = sides(i, int(j))
+            if min(a1, a2) < least or not _inside(piece, c[i], c[j]):
+                continue
+            cands.append((float(np.hypot(*(c[j] - c[i]))), i, int(j)))
+            break
+    for _, i, j in sorted(cands):
+        out = _cut(piece, [(c[i], c[j])], least)
+        if out is not None:
+            return out
+    return None
+
+
+def _axis(c: np.ndarray) -> tuple[tuple[float, float], tuple[float, float]]:
+    """Centre and unit direction of the outline's longest extent (its minimum-area rectangle's
+    long side)."""
+    import cv2
+
+    (cx, cy), (rw, rh), ang = cv2.minAreaRect(c.astype(np.float32))
+    t = np.radians(ang if rw >= rh else ang + 90.0)
+    return (float(cx), float(cy)), (float(np.cos(t)), float(np.sin(t)))
