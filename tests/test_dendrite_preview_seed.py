@@ -54,3 +54,22 @@ def test_vines_and_white_paper_keep_the_picture_as_it_is():
     assert np.array_equal(sw.default_seed(p), sw._importance_seed(p))
     with pytest.raises(ValueError, match="metaphor"):
         st.default_seed(p, metaphor="ink")
+
+
+@pytest.mark.parametrize("metaphor", ["lightning", "vines"])
+@pytest.mark.parametrize("ground,ink,where", CASES[:2] + [((0.97, 0.97, 0.97), (0.1, 0.1, 0.1), (0.3, 0.6))],
+                         ids=["neon", "chalk", "white paper"])
+def test_start_seed_is_where_run_starts(metaphor, ground, ink, where):
+    # the app's preview asked default_seed for every metaphor: a bolt's preview trunk started 10-53 % of
+    # the diagonal from the full update's (which starts at the top of the content), vines' 3-5 %
+    img = _drawing(200, ground, ink, where, seed=3)
+    st, p = Stylizer(img), StylizeParams()
+    full = st.run(p, rng=0, metaphor=metaphor).seed
+    assert np.allclose(st.start_seed(p, metaphor=metaphor), full)
+
+
+def test_start_seed_checks_its_metaphor():
+    st = Stylizer(_drawing(120, (0.97, 0.97, 0.97), (0.1, 0.1, 0.1), (0.3, 0.6), seed=1))
+    assert np.array_equal(st.start_seed(StylizeParams(), "plain"), st.default_seed(StylizeParams(), "plain"))
+    with pytest.raises(ValueError, match="metaphor"):
+        st.start_seed(StylizeParams(), metaphor="ink")

@@ -404,6 +404,8 @@ def _line_colour_and_width(image, *, sigma_max: float = 4.0, min_contrast: float
         c = np.median(rgb[line_like][key == k], axis=0) if counts[k] >= 20 else \
             np.median(rgb.reshape(-1, 3)[((qa[:, 0] * 8 + qa[:, 1]) * 8 + qa[:, 2]) == k], axis=0)
         has = np.abs(rgb - c).max(-1) <= tol
+        if has.sum() < min_share * h * w:
+            continue  # too rare already (the outline test below only takes pixels away)
         # a border line drawn in the same colour (a coast) is not counted
         outline = outline_pixels(has, outside, 2 * sigma_max + 2)
         # (a grey or black border as a whole; a coloured shape touching the outside, a trunk, stays)

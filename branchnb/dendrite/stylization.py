@@ -507,6 +507,44 @@ class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
         m = cv2.resize(np.asarray(obj, np.uint8), self.shape[::-1], interpolation=cv2.INTER_NEAREST) > 0
         return ndimage.distance_transform_edt(~m) <= max(2.0, VINE_LEAF_MARGIN * leaf)
 
+    def _metaphor_setup(self, p: StylizeParams, metaphor, render_options: dict, with_options: bool = True):
+        """:meth:`run`'s parameters for the image size and the metaphor: ``(given, p, k, obj,
+        render_options)`` (``obj`` the vines' object or None); ``with_options=False`` skips the
+        vines' render-only outline band."""
+        k = float(np.sqrt(np.prod(self.scale(p))))
+        given, p = p, effective_params(p, k)
+        obj = None
+        if metaphor in ("vines", "lightning"):
+            # the metaphors size their own strokes from the given parameters
+            # vines: the object is what stands out from the picture's own ground (on a
+            # grey wall or a dark textured ground the whole frame passed the threshold);
+            # its tips are stippled there too
+            imp = self.importance(p)
+            thr = (_ground_threshold(imp, p.endpoint_threshold) if metaphor == "vines"
+                   else p.endpoint_threshold)
+            share = float((imp >= thr).mean())
+            if metaphor == "lightning":  # an object found on its ground: tips for its area
+                content, found = self._lightning_content(p)
+                share = _strike_share(content) if found else share
+            else:  # vines on an object lighter than its ground, or the ground textured
+                obj = self._vine_object(p)
+                obj = obj if obj is not None else self._vine_parts(p)
+                share = float(obj.mean()) if obj is not None else share
+            p = metaphor_params(given, metaphor, self.shape, share, k)
+            if metaphor == "vines":  # leaves sized to the object, tips along its outline
+                render_options = self._vine_sizes(p, given, obj, imp >= thr, share, k,
+                                                  render_options)
+                p = self._vine_p
+                if with_options and render_options.get("within") is None:
+                    from .main_channel import silhouette
+
+                    render_options["within"] = self._vine_within(
+                        obj if obj is not None else silhouette(imp >= thr), render_options["leaf_length"])
+            if thr > p.endpoint_threshold:
+                p = _within_range(p, endpoint_threshold=thr)
+        obj = obj if metaphor == "vines" else None
+        return given, p, k, obj, render_options
+
     @checked(seed=Point())
     def run(self, params: StylizeParams | None = None, *, seed=None, rng: int | np.random.Generator = 0,
             metaphor: str | None = "plain", **render_options) -> Stylization:
@@ -548,38 +586,7 @@ class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
             ground = self._get(("paper_ground",), self._find_paper_ground)
             if ground is not None:
                 return self._on_ground(ground, p, seed, rng, metaphor, render_options)
-        k = float(np.sqrt(np.prod(self.scale(p))))
-        given, p = p, effective_params(p, k)
-        obj = None
-        if metaphor in ("vines", "lightning"):
-            # the metaphors size their own strokes from the given parameters
-            # vines: the object is what stands out from the picture's own ground (on a
-            # grey wall or a dark textured ground the whole frame passed the threshold);
-            # its tips are stippled there too
-            imp = self.importance(p)
-            thr = (_ground_threshold(imp, p.endpoint_threshold) if metaphor == "vines"
-                   else p.endpoint_threshold)
-            share = float((imp >= thr).mean())
-            if metaphor == "lightning":  # an object found on its ground: tips for its area
-                content, found = self._lightning_content(p)
-                share = _strike_share(content) if found else share
-            else:  # vines on an object lighter than its ground, or the ground textured
-                obj = self._vine_object(p)
-                obj = obj if obj is not None else self._vine_parts(p)
-                share = float(obj.mean()) if obj is not None else share
-            p = metaphor_params(given, metaphor, self.shape, share, k)
-            if metaphor == "vines":  # leaves sized to the object, tips along its outline
-                render_options = self._vine_sizes(p, given, obj, imp >= thr, share, k,
-                                                  render_options)
-                p = self._vine_p
-                if render_options.get("within") is None:
-                    from .main_channel import silhouette
-
-                    render_options["within"] = self._vine_within(
-                        obj if obj is not None else silhouette(imp >= thr), render_options["leaf_length"])
-            if thr > p.endpoint_threshold:
-                p = _within_range(p, endpoint_threshold=thr)
-        obj = obj if metaphor == "vines" else None
+        given, p, k, obj, render_options = self._metaphor_setup(p, metaphor, render_options)
         if seed is None:
             seed = (self.top_seed(p) if metaphor == "lightning" else self._vine_seed(p, obj)
                     if obj is not None else self.default_seed(p, metaphor=metaphor))

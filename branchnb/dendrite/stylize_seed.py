@@ -13,6 +13,7 @@ import numpy as np
 from scipy import ndimage
 
 from ..core.image import as_gray
+from ..core.params import check_params
 from ..core.validate import Points, checked
 from .lattice import direction_factors
 from .main_channel import (
@@ -189,6 +190,45 @@ class _SeedSteps:
             if ground is not None:
                 return self._levelled(ground)._importance_seed(params)
         return self._importance_seed(params)
+
+    def start_seed(self, params: StylizeParams | None = None, metaphor: str | None = "plain") -> np.ndarray:
+        """Where :meth:`run` starts the dendrite when no seed is given.
+
+        The plain metaphor's :meth:`default_seed`, a lightning bolt's :meth:`top_seed` and the
+        vines' most important inner point of their object, each with the parameters :meth:`run`
+        adapts to the image size and the metaphor (an app's reduced-size preview asks for this
+        seed on the full picture, so its trunk starts where the full update's does).
+
+        Parameters
+        ----------
+        params : StylizeParams, optional
+            Paper defaults if None.
+        metaphor : {"plain", "vines", "lightning", None}
+            The rendering the seed is for.
+
+        Returns
+        -------
+        (2,) float64 ndarray
+            ``(x, y)`` in image pixels.
+
+        Examples
+        --------
+        >>> from branchnb.dendrite import Stylizer, StylizeParams
+        >>> img = np.ones((40, 60)); img[10:30, 40:55] = 0.0
+        >>> st = Stylizer(img)
+        >>> p = StylizeParams(lattice_size=0)
+        >>> bool(np.allclose(st.start_seed(p, "lightning"), st.run(p, metaphor="lightning").seed))
+        True
+        """
+        if metaphor not in ("plain", "vines", "lightning", None):
+            raise ValueError(f"metaphor must be 'plain', 'vines', 'lightning' or None, got {metaphor!r}")
+        p = check_params(params if params is not None else StylizeParams())
+        if metaphor in ("plain", None):
+            return self.default_seed(p, metaphor=metaphor)
+        _given, p, _k, obj, _opts = self._metaphor_setup(p, metaphor, {}, with_options=False)
+        if metaphor == "lightning":
+            return self.top_seed(p)
+        return self._vine_seed(p, obj) if obj is not None else self.default_seed(p, metaphor=metaphor)
 
     def _importance_seed(self, params: StylizeParams) -> np.ndarray:
         """:meth:`default_seed` on the picture as it is (image pixels)."""

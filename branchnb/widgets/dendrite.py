@@ -403,7 +403,7 @@ class DendriteApp(widgets.VBox):
             k = float(np.sqrt(np.prod(self.preview_stylizer.scale(p))))
             p = dataclasses.replace(effective_params(p, k), output_width=0.0)
         # the full update's seed (clicked, or the stylizer's important region), in preview pixels
-        seed = (self.stylizer.default_seed(full, metaphor=self.metaphor.value) if self.seed is None
+        seed = (self.stylizer.start_seed(full, metaphor=self.metaphor.value) if self.seed is None
                 else self.seed)
         seed = (np.asarray(seed, float) + 0.5) * s - 0.5
         try:
