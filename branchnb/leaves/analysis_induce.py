@@ -49,6 +49,7 @@ from .induction import (
     scaled_lengths,
     spatial_term,
 )
+from .induction_scatter import TIE_LEVEL, positional_tie, scattered_layer
 from .snapping import contrast_direction
 from .stored_maps import BoxedMaps, CombinedMaps, DistanceMaps
 
@@ -703,7 +704,17 @@ def _own_cdf(q, pixels, cdf, bins):
 
 
 def _combine(colour, dist, lengths, tolerance, params, blades, registrations, t, user):
-    """Eqs. 2-4 from the colour terms and distance maps: ``lambda``, ``D`` per exemplar, ``delta``."""
+    """Eqs. 2-4 from the colour terms and distance maps: ``lambda``, ``D`` per exemplar, ``delta``.
+
+    Beyond the paper (issue 22): ``lambda`` is 0 for marks at random places
+    (:mod:`~branchnb.leaves.induction_scatter`): the user's layer is
+    scattered small marks (:func:`~branchnb.leaves.induction_scatter.scattered_layer`;
+    a vein network never is, so veins keep the paper's ``lambda``) and the
+    exemplars' pixels of its colour sit no nearer the registered layer than
+    chance (:func:`~branchnb.leaves.induction_scatter.positional_tie` under
+    :data:`~branchnb.leaves.induction_scatter.TIE_LEVEL`): a chance overlap
+    of a few marks is no positional tie.
+    """
     liberal_t, spat = [], []
     for e in range(len(colour)):
         eps_px, _, lib_r = lengths[e]
@@ -712,6 +723,12 @@ def _combine(colour, dist, lengths, tolerance, params, blades, registrations, t,
         liberal_t.append(lib_t & blades[t])
         spat.append(spatial_term(dist[e], colour[e], eps_px))
     lam, overlap = layer_weight(liberal_t, params.kappa)
+    if lam > 0 and scattered_layer(user, blades[t]):
+        # Measured within the liberal radius widened to the registration error, as the liberal layers are.
+        radii = [max(ln[2], tolerance) for ln in lengths]
+        tie = positional_tie([c < params.liberal_threshold for c in colour], dist, blades, t, radii)
+        if tie < TIE_LEVEL:
+            lam = 0.0
     combined = [(np.float32(lam) * f + s).astype(np.float32) for f, s in zip(spat, colour)]
     delta, tr_iou = choose_threshold(combined[t], user, blades[t])
     return lam, overlap, combined, delta, tr_iou
