@@ -726,7 +726,8 @@ def _combine(colour, dist, lengths, tolerance, params, blades, registrations, t,
     if lam > 0 and scattered_layer(user, blades[t]):
         # Measured within the liberal radius widened to the registration error, as the liberal layers are.
         radii = [max(ln[2], tolerance) for ln in lengths]
-        tie = positional_tie([c < params.liberal_threshold for c in colour], dist, blades, t, radii)
+        tie = positional_tie([np.asarray(colour[e]) < params.liberal_threshold for e in range(len(colour))],
+                             [np.asarray(dist[e]) for e in range(len(dist))], blades, t, radii)
         if tie < TIE_LEVEL:
             lam = 0.0
     combined = [(np.float32(lam) * f + s).astype(np.float32) for f, s in zip(spat, colour)]
