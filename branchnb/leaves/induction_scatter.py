@@ -19,9 +19,16 @@ A layer loses its tie (``lambda = 0``) only when both hold:
   the layer's colour sit no nearer the registered layer than chance
   (measured within the liberal radius widened by the registration error).
 
+* the layer's colour singles it out on the training leaf
+  (:data:`~branchnb.leaves.analysis_induce.SINGLES_OUT`): marks of nearly
+  the blade's colour have only their place to go by.
+
 The first test alone guards structural layers; the second keeps the tie
 of marks that do sit at one place on every leaf (a gall at the base of
-each blade).
+each blade). Measured on procedural families with one mark at the same
+place on every leaf (4-6 leaves, 200-400 px): spots ``lambda`` 0.006-0.17
+-> 0, worst exemplar's spot IoU 0.11-0.32 -> 0.76-0.91; vein masks of
+the procedural lobed / trilobed / elliptic families unchanged.
 """
 
 from __future__ import annotations
