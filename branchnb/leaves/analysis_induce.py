@@ -49,6 +49,7 @@ from .induction import (
     scaled_lengths,
     spatial_term,
 )
+from .induction_scatter import TIE_LEVEL, positional_tie, scattered_layer
 from .snapping import contrast_direction
 from .stored_maps import BoxedMaps, CombinedMaps, DistanceMaps
 
@@ -702,8 +703,26 @@ def _own_cdf(q, pixels, cdf, bins):
     return layer_cdfs(q, pixels, bins)
 
 
+#: Share of the training leaf's colour matches (``S_t`` under the liberal threshold) that must be the
+#: user's layer for a scattered layer's positional tie to be dropped (:func:`_combine`).
+SINGLES_OUT = 0.5
+
+
 def _combine(colour, dist, lengths, tolerance, params, blades, registrations, t, user):
-    """Eqs. 2-4 from the colour terms and distance maps: ``lambda``, ``D`` per exemplar, ``delta``."""
+    """Eqs. 2-4 from the colour terms and distance maps: ``lambda``, ``D`` per exemplar, ``delta``.
+
+    Beyond the paper (issue 22): ``lambda`` is 0 for marks at random places
+    (:mod:`~branchnb.leaves.induction_scatter`): the user's layer is
+    scattered small marks (:func:`~branchnb.leaves.induction_scatter.scattered_layer`;
+    a vein network never is, so veins keep the paper's ``lambda``) and the
+    exemplars' pixels of its colour sit no nearer the registered layer than
+    chance (:func:`~branchnb.leaves.induction_scatter.positional_tie` under
+    :data:`~branchnb.leaves.induction_scatter.TIE_LEVEL`): a chance overlap
+    of a few marks is no positional tie. Only while the layer's colour
+    singles it out on the training leaf (at least :data:`SINGLES_OUT` of
+    the pixels with ``S_t`` under the liberal threshold are the user's
+    layer); else its place is all it has.
+    """
     liberal_t, spat = [], []
     for e in range(len(colour)):
         eps_px, _, lib_r = lengths[e]
@@ -712,6 +731,17 @@ def _combine(colour, dist, lengths, tolerance, params, blades, registrations, t,
         liberal_t.append(lib_t & blades[t])
         spat.append(spatial_term(dist[e], colour[e], eps_px))
     lam, overlap = layer_weight(liberal_t, params.kappa)
+    match_t = (np.asarray(colour[t]) < params.liberal_threshold) & blades[t]
+    if lam > 0 and (match_t & user).sum() >= SINGLES_OUT * match_t.sum() and scattered_layer(user, blades[t]):
+        # Only where the layer's colour singles it out on the training leaf: marks of nearly the blade's
+        # colour (the sample maple_leaf_01's 36-px spots: lambda 0.8, tie 0.003) have only their place to go
+        # by. The tie is measured within the liberal radius widened to the registration error, as the
+        # liberal layers are.
+        radii = [max(ln[2], tolerance) for ln in lengths]
+        tie = positional_tie([np.asarray(colour[e]) < params.liberal_threshold for e in range(len(colour))],
+                             [np.asarray(dist[e]) for e in range(len(dist))], blades, t, radii)
+        if tie < TIE_LEVEL:
+            lam = 0.0
     combined = [(np.float32(lam) * f + s).astype(np.float32) for f, s in zip(spat, colour)]
     delta, tr_iou = choose_threshold(combined[t], user, blades[t])
     return lam, overlap, combined, delta, tr_iou

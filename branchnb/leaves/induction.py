@@ -40,6 +40,13 @@ exemplar and a user layer ``c``:
     brought into the training frame: a structural layer (veins) sits at
     the same place in every exemplar, so its liberal layers overlap and it
     leans on space; a non-structural one (spots) leans on colour.
+    **Beyond the paper** (issue 22): a chance overlap of marks at random
+    places gives a small ``lambda > 0`` that forbids every mark away from
+    the training leaf's; ``lambda = 0`` for a layer of scattered small
+    marks whose colour sits no nearer the registered layer than chance
+    (:mod:`branchnb.leaves.induction_scatter`, applied in
+    :func:`branchnb.leaves.analysis_induce.induce`); veins never count as
+    scattered and keep the paper's ``lambda``.
 
 **Scale.** ``eps = 40`` px and ``n = 8`` are the paper's values for leaves
 photographed at about 2 MP (1633 x 1225): a leaf filling such a frame
