@@ -476,7 +476,7 @@ def _pick_tips(full, rest, info, maps, matched, ext, found, slack: int,
     kept = list(full)
     where = {id(x[0]): stretch(x) for x in info}
     for unit in units:
-        if len(kept) + 0.5 * len(unit) > mean_tips + 1e-9:
+        if len(kept) + len(unit) > mean_tips + 0.5 + 1e-9:
             continue
         if all(where[id(x[0])][1] <= where[id(y[0])][0] + slack or where[id(x[0])][0] >= where[id(y[0])][1] - slack
                for x in unit for y in kept):
@@ -497,6 +497,7 @@ def _fill_tips(image: np.ndarray, sources: np.ndarray, trunk: np.ndarray, contou
     img = np.asarray(image, np.float32)
     opaque = img[..., 3] >= 0.5
     region = np.zeros(opaque.shape, np.uint8)
+    band = np.zeros(opaque.shape, np.uint8)
     for span in spans:
         a, b = span[:2]
         if len(span) == 2:
@@ -505,9 +506,12 @@ def _fill_tips(image: np.ndarray, sources: np.ndarray, trunk: np.ndarray, contou
             # a dropped tip: the interior warp still maps the pixels just inside its chord onto
             # the holder's background under the cut-off tip (holes 3-6 px under a 2- and 5-tier
             # fir mix's top tier); fill within the tip's height of the chord
-            cv2.polylines(region, [np.int32(np.round(contour[a:b + 1]))], False, 1,
+            cv2.polylines(band, [np.int32(np.round(contour[a:b + 1]))], False, 1,
                           thickness=max(1, int(round(2 * span[2]))))
-    hole = (region > 0) & mask & ~opaque
+    # holes only, off the rim: ``mask`` is the fill grown by one pixel (the rim pixels' own alpha
+    # is the sources'), and an opaque rim pixel along the chord left a stair-step kink
+    inner = cv2.erode(np.asarray(mask, np.uint8), np.ones((5, 5), np.uint8)) > 0
+    hole = ((region > 0) & mask | (band > 0) & inner) & ~opaque
     if not hole.any() or not opaque.any():
         return image, sources, trunk
     from scipy.ndimage import distance_transform_edt
