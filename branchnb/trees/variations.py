@@ -587,7 +587,9 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     sources = np.where(image[..., 3] >= 0.5, sources, -1)
     _remember_parts(image, parts)
     if not bare and clear:
-        image = _translucent_alpha(image, carried[0], min(exemplars[i].normalized.alpha_level for i in clear))
+        image = _translucent_alpha(image, carried[0], min(exemplars[i].normalized.alpha_level for i in clear),
+                                   max(_feather_width(exemplars[i]) for i in clear),
+                                   _halo_envelope([exemplars[i] for i in clear]))
     return Variation(image, tuple(e.name for e in exemplars), w, cw, cr, cage, mask, ref_name, mode, sources,
                      parts)
 
@@ -596,7 +598,68 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
 FEATHER_MAX = 24.0
 
 
-def _translucent_alpha(image: np.ndarray, soft: np.ndarray, level: float) -> np.ndarray:
+def _feather_width(exemplar) -> float:
+    """How far (px, 95th percentile) a translucent exemplar's painted alpha reaches outside its
+    silhouette: the widest fall-off a mix of it may continue its alpha by."""
+    soft = exemplar.normalized.soft_alpha
+    if soft is None:
+        return FEATHER_MAX
+    op = exemplar.image[..., 3] >= 0.5
+    if not op.any() or soft.shape != op.shape:
+        return FEATHER_MAX
+    dist = ndi.distance_transform_edt(~op)
+    ring = ~op & (soft > 0.02) & (dist <= FEATHER_MAX + 2)
+    return float(np.clip(np.percentile(dist[ring], 95), 1.0, FEATHER_MAX)) if ring.any() else 1.0
+
+
+#: Share of its sources' most alpha from which a translucent crown counts as its core
+#: (:func:`_halo_envelope`).
+HALO_CORE = 0.9
+
+
+def _halo_envelope(exemplars) -> tuple[float, np.ndarray] | None:
+    """(core level, envelope): the sources' soft alpha by whole-pixel distance outside their
+    cores (alpha at least :data:`HALO_CORE` of their most), the 95th percentile at each distance
+    (upper envelope, non-increasing, 0 where no source reaches), for crowns with an airbrushed
+    fall-off (the envelope is above 0.05 beyond 3 px); else None (washes, flat or pooled rims)."""
+    peak = max((float(np.percentile(e.normalized.soft_alpha[e.image[..., 3] >= 0.5], 99))
+                for e in exemplars if e.normalized.soft_alpha is not None
+                and e.normalized.soft_alpha.shape == e.image.shape[:2] and (e.image[..., 3] >= 0.5).any()),
+               default=0.0)
+    if peak <= 0.0:
+        return None
+    core_level = HALO_CORE * peak
+    # an airbrushed fall-off only: faint at the silhouette's edge (a glass tree's even alpha or a
+    # watercolour's pooled rim round a paler wash are no halo to trim)
+    for e in exemplars:
+        soft, op = e.normalized.soft_alpha, e.image[..., 3] >= 0.5
+        if soft is None or soft.shape != op.shape or not op.any():
+            continue
+        inside = ndi.distance_transform_edt(op)
+        if float(np.median(soft[op & (inside < 2.5)])) > 0.5 * core_level:
+            return None
+    n = int(2 * FEATHER_MAX) + 2
+    env = np.zeros(n)
+    for e in exemplars:
+        soft = e.normalized.soft_alpha
+        if soft is None or soft.shape != e.image.shape[:2]:
+            continue
+        core = soft >= core_level
+        if not core.any():
+            continue
+        dc = ndi.distance_transform_edt(~core)
+        k = np.floor(dc).astype(int)
+        sel = ~core & (k < n) & (soft > 0.0)
+        for d in np.unique(k[sel]):
+            env[d] = max(env[d], float(np.percentile(soft[sel & (k == d)], 95)))
+    env = np.maximum.accumulate(env[::-1])[::-1]      # non-increasing outwards
+    if len(env) <= 4 or env[4] <= 0.05:
+        return None
+    return core_level, env
+
+
+def _translucent_alpha(image: np.ndarray, soft: np.ndarray, level: float,
+                       reach_max: float = FEATHER_MAX, envelope=None) -> np.ndarray:
     """``image`` with the carried soft alpha of translucent sources inside its silhouette.
 
     Beyond the paper: the mix of translucent sources (:mod:`~branchnb.trees.translucent`) keeps
@@ -604,6 +667,14 @@ def _translucent_alpha(image: np.ndarray, soft: np.ndarray, level: float) -> np.
     darker than the wash on paper). Pixels the carried alpha misses (mapped outside a source's
     silhouette, tips and holes filled after the colour transfer) take the mean carried alpha of
     their 7 x 7 neighbourhood, else of the whole silhouette.
+
+    The fall-off outside the silhouette reaches at most ``reach_max`` px (the widest of the
+    sources', :func:`_feather_width`; issue 24, trees48): read from the slope just inside alone,
+    a mix whose carried alpha rose slowly there (a warp stretching an airbrushed rim) got a
+    halo up to :data:`FEATHER_MAX` px wide, twice the sources'.
+    Not yet: a warp stretching a source's airbrushed fall-off inside the silhouette (halo 26 px
+    against the sources' 11-14); raising the carried alpha to the sources' profile by distance
+    left pale valleys inside the crown where the stretch ran deeper than that profile.
     """
     op = image[..., 3] >= 0.5
     if not op.any():
@@ -623,13 +694,20 @@ def _translucent_alpha(image: np.ndarray, soft: np.ndarray, level: float) -> np.
     inside = cv2.distanceTransform(op.astype(np.uint8), cv2.DIST_L2, 5)
     band = op & (inside >= 1.5) & (inside <= 4.5)
     slope = float(np.median((a[band] - level) / inside[band])) if band.any() else 0.0
-    reach = float(np.clip(level / slope, 1.0, FEATHER_MAX)) if slope > 0 else 1.0
+    reach = float(np.clip(level / slope, 1.0, min(FEATHER_MAX, max(reach_max, 1.0)))) if slope > 0 else 1.0
     dist, idx = ndi.distance_transform_edt(~op, return_indices=True)
     ring = ~op & (dist < reach + 1e-6)
     out = image.copy()
     out[..., 3] = np.clip(a, 0.0, 1.0)
     out[..., 3][ring] = level * np.clip(1.0 - (dist[ring] - 0.5) / reach, 0.0, 1.0)
     out[..., :3][ring] = image[..., :3][idx[0][ring], idx[1][ring]]
+    if envelope is not None:
+        core_level, env = envelope
+        core = out[..., 3] >= core_level
+        if core.any():
+            dc = ndi.distance_transform_edt(~core)
+            cap = np.interp(dc, np.arange(len(env)), env, right=0.0)
+            out[..., 3] = np.where(core, out[..., 3], np.minimum(out[..., 3], cap))
     return out
 
 
