@@ -74,6 +74,7 @@ from .morph import check_weights, combine_shapes, dirichlet_weights, fill_contou
 from .mvc import transfer_colour
 from .processing import GROUND_METHODS, TRUNK_METHODS, Exemplar, exemplar_trunk, process_exemplar
 from .sticker import _sticker_mix
+from .translucent import _feather_width, _halo_envelope
 
 __all__ = [
     "RPG_TREES",
@@ -588,74 +589,14 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     _remember_parts(image, parts)
     if not bare and clear:
         image = _translucent_alpha(image, carried[0], min(exemplars[i].normalized.alpha_level for i in clear),
-                                   max(_feather_width(exemplars[i]) for i in clear),
-                                   _halo_envelope([exemplars[i] for i in clear]))
+                                   max(_feather_width(exemplars[i], FEATHER_MAX) for i in clear),
+                                   _halo_envelope([exemplars[i] for i in clear], FEATHER_MAX))
     return Variation(image, tuple(e.name for e in exemplars), w, cw, cr, cage, mask, ref_name, mode, sources,
                      parts)
 
 
 #: Widest fall-off (px) a translucent mix's alpha is continued by outside its silhouette.
 FEATHER_MAX = 24.0
-
-
-def _feather_width(exemplar) -> float:
-    """How far (px, 95th percentile) a translucent exemplar's painted alpha reaches outside its
-    silhouette: the widest fall-off a mix of it may continue its alpha by."""
-    soft = exemplar.normalized.soft_alpha
-    if soft is None:
-        return FEATHER_MAX
-    op = exemplar.image[..., 3] >= 0.5
-    if not op.any() or soft.shape != op.shape:
-        return FEATHER_MAX
-    dist = ndi.distance_transform_edt(~op)
-    ring = ~op & (soft > 0.02) & (dist <= FEATHER_MAX + 2)
-    return float(np.clip(np.percentile(dist[ring], 95), 1.0, FEATHER_MAX)) if ring.any() else 1.0
-
-
-#: Share of its sources' most alpha from which a translucent crown counts as its core
-#: (:func:`_halo_envelope`).
-HALO_CORE = 0.9
-
-
-def _halo_envelope(exemplars) -> tuple[float, np.ndarray] | None:
-    """(core level, envelope): the sources' soft alpha by whole-pixel distance outside their
-    cores (alpha at least :data:`HALO_CORE` of their most), the 95th percentile at each distance
-    (upper envelope, non-increasing, 0 where no source reaches), for crowns with an airbrushed
-    fall-off (the envelope is above 0.05 beyond 3 px); else None (washes, flat or pooled rims)."""
-    peak = max((float(np.percentile(e.normalized.soft_alpha[e.image[..., 3] >= 0.5], 99))
-                for e in exemplars if e.normalized.soft_alpha is not None
-                and e.normalized.soft_alpha.shape == e.image.shape[:2] and (e.image[..., 3] >= 0.5).any()),
-               default=0.0)
-    if peak <= 0.0:
-        return None
-    core_level = HALO_CORE * peak
-    # an airbrushed fall-off only: faint at the silhouette's edge (a glass tree's even alpha or a
-    # watercolour's pooled rim round a paler wash are no halo to trim)
-    for e in exemplars:
-        soft, op = e.normalized.soft_alpha, e.image[..., 3] >= 0.5
-        if soft is None or soft.shape != op.shape or not op.any():
-            continue
-        inside = ndi.distance_transform_edt(op)
-        if float(np.median(soft[op & (inside < 2.5)])) > 0.5 * core_level:
-            return None
-    n = int(2 * FEATHER_MAX) + 2
-    env = np.zeros(n)
-    for e in exemplars:
-        soft = e.normalized.soft_alpha
-        if soft is None or soft.shape != e.image.shape[:2]:
-            continue
-        core = soft >= core_level
-        if not core.any():
-            continue
-        dc = ndi.distance_transform_edt(~core)
-        k = np.floor(dc).astype(int)
-        sel = ~core & (k < n) & (soft > 0.0)
-        for d in np.unique(k[sel]):
-            env[d] = max(env[d], float(np.percentile(soft[sel & (k == d)], 95)))
-    env = np.maximum.accumulate(env[::-1])[::-1]      # non-increasing outwards
-    if len(env) <= 4 or env[4] <= 0.05:
-        return None
-    return core_level, env
 
 
 def _translucent_alpha(image: np.ndarray, soft: np.ndarray, level: float,
@@ -669,12 +610,14 @@ def _translucent_alpha(image: np.ndarray, soft: np.ndarray, level: float,
     their 7 x 7 neighbourhood, else of the whole silhouette.
 
     The fall-off outside the silhouette reaches at most ``reach_max`` px (the widest of the
-    sources', :func:`_feather_width`; issue 24, trees48): read from the slope just inside alone,
-    a mix whose carried alpha rose slowly there (a warp stretching an airbrushed rim) got a
-    halo up to :data:`FEATHER_MAX` px wide, twice the sources'.
-    Not yet: a warp stretching a source's airbrushed fall-off inside the silhouette (halo 26 px
-    against the sources' 11-14); raising the carried alpha to the sources' profile by distance
-    left pale valleys inside the crown where the stretch ran deeper than that profile.
+    sources', :func:`~branchnb.trees.translucent._feather_width`; issue 24, trees48): read from
+    the slope just inside alone, a mix whose carried alpha rose slowly there (a warp stretching
+    an airbrushed rim) got a halo up to :data:`FEATHER_MAX` px wide. With ``envelope``
+    (:func:`~branchnb.trees.translucent._halo_envelope`: airbrushed sources), the alpha outside
+    the mix's core is at most the sources' at the same distance from their cores: the warp
+    stretched an airbrushed fall-off inside the silhouette too (halo 25 px against the sources'
+    11-14 at 256 px). Raising the faint alpha to the sources' profile by distance from the rim
+    instead left pale valleys inside the crown where the stretch ran deeper than that profile.
     """
     op = image[..., 3] >= 0.5
     if not op.any():
