@@ -51,8 +51,13 @@ index:
    tier (tips mirrored across the apex) are kept or dropped together, and a
    dropped top tier is flattened up to the apex. Not on outlined mixes:
    there the cut left specks at the re-inked rim (flecks 0 -> 2.1 per 1000 px).
-   Tiers are not inserted into a tier of another source yet: an even mix of 3
-   and 5 tiers has the reference's 3.
+   How many (issue 24, trees48, :func:`_pick_tips`): units (a tip and its mirror) of the tips
+   only some contours hold are kept, most weight then most prominent first, while the kept
+   count stays within the weighted mean of the contours' tip counts + 0.5, so the tier count
+   follows the weight (3 and 5 tiers: 3 at 0.2, 4 at 0.5, 4-5 at 0.8; it took 3 up to 0.5 and
+   5 from 0.65 on). A kept unit's stretch, for the overlap with the others, is the narrowest
+   its holders give it. A dropped tip's chord band is filled where the warp still mapped it
+   onto the holder's background (:func:`_fill_tips`).
 
 A mix of crowns none of which has a tip (round, lobed, bumpy cartoon crowns
 whose corners are all notches) keeps the paper's correspondence exactly.
