@@ -481,7 +481,9 @@ def _pick_tips(full, rest, info, maps, matched, ext, found, slack: int,
     kept = list(full)
     where = {id(x[0]): stretch(x) for x in info}
     for unit in units:
-        if len(kept) + len(unit) > mean_tips + 0.5 + 1e-9:
+        # a unit most of the weight holds is the mix's own (a palm's fronds in its "more like
+        # this": cut to the mean count they merged into a blob, half-thickness x1.4)
+        if len(kept) + len(unit) > mean_tips + 0.5 + 1e-9 and unit[0][5] <= 0.5 + 1e-9:
             continue
         if all(where[id(x[0])][1] <= where[id(y[0])][0] + slack or where[id(x[0])][0] >= where[id(y[0])][1] - slack
                for x in unit for y in kept):
