@@ -53,9 +53,9 @@ index:
    there the cut left specks at the re-inked rim (flecks 0 -> 2.1 per 1000 px).
    How many (issue 24, trees48, :func:`_pick_tips`): units (a tip and its mirror) of the tips
    only some contours hold are kept, most weight then most prominent first, while the kept
-   count stays within the weighted mean of the contours' tip counts + 0.5, so the tier count
-   follows the weight (3 and 5 tiers: 3 at 0.2, 4 at 0.5, 4-5 at 0.8; it took 3 up to 0.5 and
-   5 from 0.65 on). A kept unit's stretch, for the overlap with the others, is the narrowest
+   count stays within the weighted mean of the contours' tip counts + 0.5 (units held by more
+   than half the weight are always kept), so the tier count follows the weight (3 and 5 tiers:
+   3 at 0.2, 4 at 0.5, 5 at 0.8; it took 3 up to 0.5 and 5 from 0.65 on). A kept unit's stretch, for the overlap with the others, is the narrowest
    its holders give it. A dropped tip's chord band is filled where the warp still mapped it
    onto the holder's background (:func:`_fill_tips`).
 
@@ -449,12 +449,13 @@ def _pick_tips(full, rest, info, maps, matched, ext, found, slack: int,
                mirrored, mean_tips: float) -> list:
     """The tip groups a plain mix keeps (:func:`_tip_matched`, issue 24, trees48): every group all
     contours hold, then units of the others (a tip with its mirror across the apex: the two ends
-    of a fir tier) held by most weight first, the most prominent first among equal weights, while
-    the unit's middle stays within ``mean_tips`` (the weighted mean of the contours' tip counts)
-    and it overlaps no kept group. A group's stretch, for the overlap, is the narrowest its
-    holders give it: read on the heaviest holder only, a 3-tier fir's wide tier (notch to notch)
-    covered the 5-tier fir's extra tier ends, so an even mix kept none and took the 3-tier
-    count; the 0.65 mix, read on the 5-tier fir, took all 5 (a step, never 4)."""
+    of a fir tier) held by most weight first, the most prominent first among equal weights,
+    while the kept count stays within ``mean_tips`` (the weighted mean of the contours' tip
+    counts) + 0.5 or more than half the weight holds the unit, and it overlaps no kept group.
+    A group's stretch, for the overlap, is the narrowest its holders give it: read on the
+    heaviest holder only, a 3-tier fir's wide tier (notch to notch) covered the 5-tier fir's
+    extra tier ends, so an even mix kept none and took the 3-tier count; the 0.65 mix, read on
+    the 5-tier fir, took all 5 (a step, never 4)."""
     def stretch(x):
         a, b = x[2], x[4]
         for j, i in x[0].items():
