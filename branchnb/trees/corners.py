@@ -55,9 +55,10 @@ index:
    only some contours hold are kept, most weight then most prominent first, while the kept
    count stays within the weighted mean of the contours' tip counts + 0.5 (units held by more
    than half the weight are always kept), so the tier count follows the weight (3 and 5 tiers:
-   3 at 0.2, 4 at 0.5, 5 at 0.8; it took 3 up to 0.5 and 5 from 0.65 on). A kept unit's stretch, for the overlap with the others, is the narrowest
-   its holders give it. A dropped tip's chord band is filled where the warp still mapped it
-   onto the holder's background (:func:`_fill_tips`).
+   3 at 0.2, 4 at 0.5, 5 at 0.8; it took 3 up to 0.5 and 5 from 0.65 on). A kept unit's
+   stretch, for the overlap with the others, is the narrowest its holders give it. A dropped
+   tip's chord band is filled where the warp still mapped it onto the holder's background
+   (:func:`_fill_tips`).
 
 A mix of crowns none of which has a tip (round, lobed, bumpy cartoon crowns
 whose corners are all notches) keeps the paper's correspondence exactly.
