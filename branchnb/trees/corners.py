@@ -81,6 +81,7 @@ star crowns kept no tip without it.
 from __future__ import annotations
 
 import numpy as np
+from scipy import ndimage as ndi
 from scipy.ndimage import gaussian_filter1d
 
 __all__: list[str] = []
@@ -520,7 +521,11 @@ def _fill_tips(image: np.ndarray, sources: np.ndarray, trunk: np.ndarray, contou
     # holes only, off the rim: ``mask`` is the fill grown by one pixel (the rim pixels' own alpha
     # is the sources'), and an opaque rim pixel along the chord left a stair-step kink
     inner = cv2.erode(np.asarray(mask, np.uint8), np.ones((5, 5), np.uint8)) > 0
-    hole = ((region > 0) & mask | (band > 0) & inner) & ~opaque
+    # and only see-through pockets enclosed by the crown: filling a band that crosses a gap open
+    # to the outside (between a palm's fronds) closed it into a hole
+    lab, _ = ndi.label(~opaque)
+    open_ = np.isin(lab, np.unique(np.concatenate([lab[0], lab[-1], lab[:, 0], lab[:, -1]])))
+    hole = ((region > 0) & mask | (band > 0) & inner & ~open_) & ~opaque
     if not hole.any() or not opaque.any():
         return image, sources, trunk
     from scipy.ndimage import distance_transform_edt
