@@ -103,3 +103,29 @@ def test_bare_mixes_take_limbs_of_both_trees():
         assert areas.max() >= 0.97 * areas.sum()
     one = make_variation(lib, [0.9, 0.1], colour_weights="shape", rng=0)
     assert (one.sources[one.image[..., 3] >= 0.5] == 0).mean() >= 0.9     # a light tree gives no limb
+
+
+@pytest.mark.parametrize(("n1", "n2", "seeds", "size"), [(3, 5, (3, 15), 192), (2, 5, (7, 8), 256)])
+def test_even_fir_mix_has_a_tier_count_between_the_sources(n1, n2, seeds, size):
+    """trees48: an even mix of a 3- and a 5-tier fir had 3 tiers (the heavier-indexed source's
+    wide tiers hid the other's extra tier ends); now the count follows the weight."""
+    lib = TreeLibrary(size=size)
+    lib.add(_fir(n1, 300, seeds[0]), "a")
+    lib.add(_fir(n2, 420, seeds[1]), "b")
+    src = [_tier_tips(e.alpha) for e in lib.exemplars]
+    assert [len(s[0]) for s in src] == [n1, n2]
+    smallest = min(np.diff(np.r_[0.0, s[0]]).min() for s in src)
+    counts = []
+    for w in (0.2, 0.5, 0.8):
+        v = make_variation(lib, [1 - w, w], colour_weights="shape", rng=0)
+        left, right = _tier_tips(v.image[..., 3])
+        assert len(left) == len(right)
+        assert np.diff(np.r_[0.0, left]).min() >= 0.6 * smallest
+        counts.append(len(left))
+        if w == 0.5:    # no see-through hole inside the crown where a tier was dropped
+            op = v.image[..., 3] >= 0.5
+            filled = ndi.binary_fill_holes(op)
+            assert (filled & ~op).sum() <= 2
+    assert n1 < counts[1] < n2, counts
+    assert counts == sorted(counts), counts
+    assert abs(counts[0] - n1) <= 1 and abs(counts[2] - n2) <= 1, counts

@@ -51,8 +51,14 @@ index:
    tier (tips mirrored across the apex) are kept or dropped together, and a
    dropped top tier is flattened up to the apex. Not on outlined mixes:
    there the cut left specks at the re-inked rim (flecks 0 -> 2.1 per 1000 px).
-   Tiers are not inserted into a tier of another source yet: an even mix of 3
-   and 5 tiers has the reference's 3.
+   How many (issue 24, trees48, :func:`_pick_tips`): units (a tip and its mirror) of the tips
+   only some contours hold are kept, most weight then most prominent first, while the kept
+   count stays within the weighted mean of the contours' tip counts + 0.5 (units held by more
+   than half the weight are always kept), so the tier count follows the weight (3 and 5 tiers:
+   3 at 0.2, 4 at 0.5, 5 at 0.8; it took 3 up to 0.5 and 5 from 0.65 on). A kept unit's
+   stretch, for the overlap with the others, is the narrowest its holders give it. A dropped
+   tip's chord band is filled where the warp still mapped it onto the holder's background
+   (:func:`_fill_tips`).
 
 A mix of crowns none of which has a tip (round, lobed, bumpy cartoon crowns
 whose corners are all notches) keeps the paper's correspondence exactly.
@@ -75,6 +81,7 @@ star crowns kept no tip without it.
 from __future__ import annotations
 
 import numpy as np
+from scipy import ndimage as ndi
 from scipy.ndimage import gaussian_filter1d
 
 __all__: list[str] = []
@@ -350,39 +357,43 @@ def _tip_matched(contours, weights, pins: tuple[int, int, int], grains=None, dro
         info.append((g, donor, a, t, b, held))
     full = [x for x in info if all(int(j) in x[0] for j in live)]
     rest = sorted((x for x in info if not all(int(j) in x[0] for j in live)), key=lambda x: -x[5])
-    kept = list(full)
-    last = None
     # extents meeting half way between two tips may overlap by the rounding of their midpoint
     slack = max(1, int(0.004 * span)) if drop else 0
-    for x in rest:
-        # Groups held by the same weight go together (the left and right tier ends of a fir).
-        if len(kept) >= keep_n and not (last is not None and abs(x[5] - last) < 1e-9 and len(kept) < max(n_tips)):
-            break
-        if all(x[4] <= y[2] + slack or x[2] >= y[4] - slack for y in kept):
-            kept.append(x)
-            last = x[5]
+    ref = matched[int(order[0])]
+    height = float(np.ptp(ref[:, 1])) or 1.0
+    apex_x = float(ref[ir + int(np.argmin(ref[ir:il + 1, 1])), 0])
+    tip_at = {id(x[0]): matched[x[1]][x[3]] for x in info}
+
+    def mirrored(x, y) -> bool:
+        p, q = tip_at[id(x[0])], tip_at[id(y[0])]
+        return (y is not x and abs(p[0] - apex_x) >= 0.05 * height and abs(p[1] - q[1]) < 0.04 * height
+                and (p[0] - apex_x) * (q[0] - apex_x) < 0
+                and abs((p[0] - apex_x) + (q[0] - apex_x)) < 0.15 * abs(p[0] - apex_x))
+
+    if drop:
+        kept = _pick_tips(full, rest, info, maps, matched, ext, found, slack, mirrored,
+                          float(np.dot(w[live], n_tips) / w[live].sum()))
+    else:
+        kept = list(full)
+        last = None
+        for x in rest:
+            # Groups held by the same weight go together (the left and right tier ends of a fir).
+            if len(kept) >= keep_n and not (last is not None and abs(x[5] - last) < 1e-9
+                                            and len(kept) < max(n_tips)):
+                break
+            if all(x[4] <= y[2] + slack or x[2] >= y[4] - slack for y in kept):
+                kept.append(x)
+                last = x[5]
     kept_ids = {id(x[0]) for x in kept}
     # Tips mirrored across the apex (the left and right ends of one fir tier) are kept or dropped
     # together: kept on one side only they left a lopsided, flag-like tier (a 3-tier fir mixed
     # 0.1/0.9 with a 5-tier one: 5 tiers on the left, 4 on the right). Dropping is always
     # possible (a flattened tip), so a kept tip whose mirror is dropped is dropped too.
-    ref = matched[int(order[0])]
-    height = float(np.ptp(ref[:, 1])) or 1.0
-    apex_x = float(ref[ir + int(np.argmin(ref[ir:il + 1, 1])), 0])
-    tip_at = {id(x[0]): matched[x[1]][x[3]] for x in info}
     for x in info if drop else []:
         if id(x[0]) not in kept_ids or len(x[0]) == len(live):
             continue
-        p = tip_at[id(x[0])]
-        if abs(p[0] - apex_x) < 0.05 * height:
-            continue
-        for y in info:
-            q = tip_at[id(y[0])]
-            if (y is not x and id(y[0]) not in kept_ids and abs(p[1] - q[1]) < 0.04 * height
-                    and (p[0] - apex_x) * (q[0] - apex_x) < 0
-                    and abs((p[0] - apex_x) + (q[0] - apex_x)) < 0.15 * abs(p[0] - apex_x)):
-                kept_ids.discard(id(x[0]))
-                break
+        if any(id(y[0]) not in kept_ids and mirrored(x, y) for y in info):
+            kept_ids.discard(id(x[0]))
     kept = [x for x in kept if id(x[0]) in kept_ids]
     for g, donor, a, _t, b, _ in info:
         if len(g) == len(live) or b - a < 2:
@@ -414,6 +425,7 @@ def _tip_matched(contours, weights, pins: tuple[int, int, int], grains=None, dro
     # Where no notch parts a dropped tip from its neighbour (a fir's top tier and its apex) the
     # chord runs to the neighbour: half way there it pinched the crown below the apex.
     reach = {int(j): _tip_extent(cs[j], pins, grains[j], found[j][0], to_tips=True) for j in ext}
+    gone = []
     for g, _donor, _a, _t, _b, _ in info:
         if len(g) == len(live) or id(g) in kept_ids or not drop:
             continue
@@ -422,6 +434,8 @@ def _tip_matched(contours, weights, pins: tuple[int, int, int], grains=None, dro
             a_, b_ = new_index(j, row[0]), new_index(j, row[2])
             if b_ - a_ < 2:
                 continue
+            _, off, _ = _tip_profile(rims[j], a_, b_)
+            gone.append((a_, b_, float(np.abs(off).max())))
             s_ = np.linspace(0.0, 1.0, b_ - a_ + 1)[:, None]
             for lst in (out, rims):
                 c = lst[j].copy()
@@ -430,7 +444,54 @@ def _tip_matched(contours, weights, pins: tuple[int, int, int], grains=None, dro
     # every kept tip, matched ones too: a tip matched across a shift (a 5-point star's upper
     # points to a 7-point star's) maps off the rim of the source it moved in
     spans = [(a, b) for g, _, a, _, b, _ in info if id(g) in kept_ids and b - a >= 2]
-    return out, rims, spans
+    return out, rims, spans + gone
+
+
+def _pick_tips(full, rest, info, maps, matched, ext, found, slack: int,
+               mirrored, mean_tips: float) -> list:
+    """The tip groups a plain mix keeps (:func:`_tip_matched`, issue 24, trees48): every group all
+    contours hold, then units of the others (a tip with its mirror across the apex: the two ends
+    of a fir tier) held by most weight first, the most prominent first among equal weights,
+    while the kept count stays within ``mean_tips`` (the weighted mean of the contours' tip
+    counts) + 0.5 or more than half the weight holds the unit, and it overlaps no kept group.
+    A group's stretch, for the overlap, is the narrowest its holders give it: read on the
+    heaviest holder only, a 3-tier fir's wide tier (notch to notch) covered the 5-tier fir's
+    extra tier ends, so an even mix kept none and took the 3-tier count; the 0.65 mix, read on
+    the 5-tier fir, took all 5 (a step, never 4)."""
+    def stretch(x):
+        a, b = x[2], x[4]
+        for j, i in x[0].items():
+            row = ext[j][int(np.flatnonzero(found[j][0] == i)[0])]
+            if j in maps:
+                own, tgt = maps[j]
+                row = [int(round(float(np.interp(v, own, tgt)))) for v in row]
+            a, b = max(a, int(row[0])), min(b, int(row[2]))
+        return a, b
+
+    def prominence(x):
+        _, off, _ = _tip_profile(matched[x[1]], x[2], x[4])
+        return float(np.abs(off).max()) if off.size else 0.0
+
+    units, seen = [], set()
+    for x in rest:
+        if id(x[0]) in seen:
+            continue
+        unit = [x] + [y for y in rest if id(y[0]) not in seen and y is not x and abs(y[5] - x[5]) < 1e-9
+                      and mirrored(x, y)][:1]
+        seen.update(id(u[0]) for u in unit)
+        units.append(unit)
+    units.sort(key=lambda u: (-u[0][5], -max(prominence(v) for v in u)))
+    kept = list(full)
+    where = {id(x[0]): stretch(x) for x in info}
+    for unit in units:
+        # a unit most of the weight holds is the mix's own (a palm's fronds in its "more like
+        # this": cut to the mean count they merged into a blob, half-thickness x1.4)
+        if len(kept) + len(unit) > mean_tips + 0.5 + 1e-9 and unit[0][5] <= 0.5 + 1e-9:
+            continue
+        if all(where[id(x[0])][1] <= where[id(y[0])][0] + slack or where[id(x[0])][0] >= where[id(y[0])][1] - slack
+               for x in unit for y in kept):
+            kept.extend(unit)
+    return kept
 
 
 def _fill_tips(image: np.ndarray, sources: np.ndarray, trunk: np.ndarray, contour: np.ndarray,
@@ -446,9 +507,25 @@ def _fill_tips(image: np.ndarray, sources: np.ndarray, trunk: np.ndarray, contou
     img = np.asarray(image, np.float32)
     opaque = img[..., 3] >= 0.5
     region = np.zeros(opaque.shape, np.uint8)
-    for a, b in spans:
-        cv2.fillPoly(region, [np.int32(np.round(contour[a:b + 1]))], 1)
-    hole = (region > 0) & mask & ~opaque
+    band = np.zeros(opaque.shape, np.uint8)
+    for span in spans:
+        a, b = span[:2]
+        if len(span) == 2:
+            cv2.fillPoly(region, [np.int32(np.round(contour[a:b + 1]))], 1)
+        else:
+            # a dropped tip: the interior warp still maps the pixels just inside its chord onto
+            # the holder's background under the cut-off tip (holes 3-6 px under a 2- and 5-tier
+            # fir mix's top tier); fill within the tip's height of the chord
+            cv2.polylines(band, [np.int32(np.round(contour[a:b + 1]))], False, 1,
+                          thickness=max(1, int(round(2 * span[2]))))
+    # holes only, off the rim: ``mask`` is the fill grown by one pixel (the rim pixels' own alpha
+    # is the sources'), and an opaque rim pixel along the chord left a stair-step kink
+    inner = cv2.erode(np.asarray(mask, np.uint8), np.ones((5, 5), np.uint8)) > 0
+    # and only see-through pockets enclosed by the crown: filling a band that crosses a gap open
+    # to the outside (between a palm's fronds) closed it into a hole
+    lab, _ = ndi.label(~opaque)
+    open_ = np.isin(lab, np.unique(np.concatenate([lab[0], lab[-1], lab[:, 0], lab[:, -1]])))
+    hole = ((region > 0) & mask | (band > 0) & inner & ~open_) & ~opaque
     if not hole.any() or not opaque.any():
         return image, sources, trunk
     from scipy.ndimage import distance_transform_edt

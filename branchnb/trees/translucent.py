@@ -184,3 +184,65 @@ def from_working_alpha(alpha: np.ndarray, level: float, threshold: float = 0.5) 
     if level >= threshold:
         return np.clip(np.asarray(alpha, np.float32), 0.0, 1.0)
     return _two_piece(alpha, threshold, level)
+
+
+def _feather_width(exemplar, most: float) -> float:
+    """How far (px, 95th percentile) a translucent exemplar's painted alpha reaches outside its
+    silhouette (at most ``most``): the widest fall-off a mix of it may continue its alpha by
+    (:func:`~branchnb.trees.variations._translucent_alpha`, issue 24, trees48)."""
+    soft = exemplar.normalized.soft_alpha
+    if soft is None:
+        return float(most)
+    op = exemplar.image[..., 3] >= 0.5
+    if not op.any() or soft.shape != op.shape:
+        return float(most)
+    dist = ndi.distance_transform_edt(~op)
+    ring = ~op & (soft > 0.02) & (dist <= most + 2)
+    return float(np.clip(np.percentile(dist[ring], 95), 1.0, most)) if ring.any() else 1.0
+
+
+#: Share of its sources' most alpha from which a translucent crown counts as its core
+#: (:func:`_halo_envelope`).
+HALO_CORE = 0.9
+
+
+def _halo_envelope(exemplars, most: float) -> tuple[float, np.ndarray] | None:
+    """(core level, envelope): the sources' soft alpha by whole-pixel distance outside their
+    cores (alpha at least :data:`HALO_CORE` of their most), the 95th percentile at each distance
+    (upper envelope, non-increasing, 0 where no source reaches), for crowns with an airbrushed
+    fall-off (the envelope is above 0.05 beyond 3 px); else None (washes, flat or pooled rims).
+    Distances up to ``2 most + 1`` px (issue 24, trees48)."""
+    peak = max((float(np.percentile(e.normalized.soft_alpha[e.image[..., 3] >= 0.5], 99))
+                for e in exemplars if e.normalized.soft_alpha is not None
+                and e.normalized.soft_alpha.shape == e.image.shape[:2] and (e.image[..., 3] >= 0.5).any()),
+               default=0.0)
+    if peak <= 0.0:
+        return None
+    core_level = HALO_CORE * peak
+    # an airbrushed fall-off only: faint at the silhouette's edge (a glass tree's even alpha or a
+    # watercolour's pooled rim round a paler wash are no halo to trim)
+    for e in exemplars:
+        soft, op = e.normalized.soft_alpha, e.image[..., 3] >= 0.5
+        if soft is None or soft.shape != op.shape or not op.any():
+            continue
+        inside = ndi.distance_transform_edt(op)
+        if float(np.median(soft[op & (inside < 2.5)])) > 0.5 * core_level:
+            return None
+    n = int(2 * most) + 2
+    env = np.zeros(n)
+    for e in exemplars:
+        soft = e.normalized.soft_alpha
+        if soft is None or soft.shape != e.image.shape[:2]:
+            continue
+        core = soft >= core_level
+        if not core.any():
+            continue
+        dc = ndi.distance_transform_edt(~core)
+        k = np.floor(dc).astype(int)
+        sel = ~core & (k < n) & (soft > 0.0)
+        for d in np.unique(k[sel]):
+            env[d] = max(env[d], float(np.percentile(soft[sel & (k == d)], 95)))
+    env = np.maximum.accumulate(env[::-1])[::-1]      # non-increasing outwards
+    if len(env) <= 4 or env[4] <= 0.05:
+        return None
+    return core_level, env

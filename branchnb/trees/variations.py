@@ -74,6 +74,7 @@ from .morph import check_weights, combine_shapes, dirichlet_weights, fill_contou
 from .mvc import transfer_colour
 from .processing import GROUND_METHODS, TRUNK_METHODS, Exemplar, exemplar_trunk, process_exemplar
 from .sticker import _sticker_mix
+from .translucent import _feather_width, _halo_envelope
 
 __all__ = [
     "RPG_TREES",
@@ -587,7 +588,9 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     sources = np.where(image[..., 3] >= 0.5, sources, -1)
     _remember_parts(image, parts)
     if not bare and clear:
-        image = _translucent_alpha(image, carried[0], min(exemplars[i].normalized.alpha_level for i in clear))
+        image = _translucent_alpha(image, carried[0], min(exemplars[i].normalized.alpha_level for i in clear),
+                                   max(_feather_width(exemplars[i], FEATHER_MAX) for i in clear),
+                                   _halo_envelope([exemplars[i] for i in clear], FEATHER_MAX))
     return Variation(image, tuple(e.name for e in exemplars), w, cw, cr, cage, mask, ref_name, mode, sources,
                      parts)
 
@@ -596,7 +599,8 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
 FEATHER_MAX = 24.0
 
 
-def _translucent_alpha(image: np.ndarray, soft: np.ndarray, level: float) -> np.ndarray:
+def _translucent_alpha(image: np.ndarray, soft: np.ndarray, level: float,
+                       reach_max: float = FEATHER_MAX, envelope=None) -> np.ndarray:
     """``image`` with the carried soft alpha of translucent sources inside its silhouette.
 
     Beyond the paper: the mix of translucent sources (:mod:`~branchnb.trees.translucent`) keeps
@@ -604,6 +608,16 @@ def _translucent_alpha(image: np.ndarray, soft: np.ndarray, level: float) -> np.
     darker than the wash on paper). Pixels the carried alpha misses (mapped outside a source's
     silhouette, tips and holes filled after the colour transfer) take the mean carried alpha of
     their 7 x 7 neighbourhood, else of the whole silhouette.
+
+    The fall-off outside the silhouette reaches at most ``reach_max`` px (the widest of the
+    sources', :func:`~branchnb.trees.translucent._feather_width`; issue 24, trees48): read from
+    the slope just inside alone, a mix whose carried alpha rose slowly there (a warp stretching
+    an airbrushed rim) got a halo up to :data:`FEATHER_MAX` px wide. With ``envelope``
+    (:func:`~branchnb.trees.translucent._halo_envelope`: airbrushed sources), the alpha outside
+    the mix's core is at most the sources' at the same distance from their cores: the warp
+    stretched an airbrushed fall-off inside the silhouette too (halo 25 px against the sources'
+    11-14 at 256 px). Raising the faint alpha to the sources' profile by distance from the rim
+    instead left pale valleys inside the crown where the stretch ran deeper than that profile.
     """
     op = image[..., 3] >= 0.5
     if not op.any():
@@ -623,13 +637,20 @@ def _translucent_alpha(image: np.ndarray, soft: np.ndarray, level: float) -> np.
     inside = cv2.distanceTransform(op.astype(np.uint8), cv2.DIST_L2, 5)
     band = op & (inside >= 1.5) & (inside <= 4.5)
     slope = float(np.median((a[band] - level) / inside[band])) if band.any() else 0.0
-    reach = float(np.clip(level / slope, 1.0, FEATHER_MAX)) if slope > 0 else 1.0
+    reach = float(np.clip(level / slope, 1.0, min(FEATHER_MAX, max(reach_max, 1.0)))) if slope > 0 else 1.0
     dist, idx = ndi.distance_transform_edt(~op, return_indices=True)
     ring = ~op & (dist < reach + 1e-6)
     out = image.copy()
     out[..., 3] = np.clip(a, 0.0, 1.0)
     out[..., 3][ring] = level * np.clip(1.0 - (dist[ring] - 0.5) / reach, 0.0, 1.0)
     out[..., :3][ring] = image[..., :3][idx[0][ring], idx[1][ring]]
+    if envelope is not None:
+        core_level, env = envelope
+        core = out[..., 3] >= core_level
+        if core.any():
+            dc = ndi.distance_transform_edt(~core)
+            cap = np.interp(dc, np.arange(len(env)), env, right=0.0)
+            out[..., 3] = np.where(core, out[..., 3], np.minimum(out[..., 3], cap))
     return out
 
 
