@@ -84,6 +84,12 @@ class DrawingStyle:
         blunt ends or stubs). None: the structure's radii as they are.
     tip_radius : float
         See ``taper``.
+    coast_profile : (distances, colours) or None
+        The example's colour across its drawn coast by signed distance to
+        the branch region's edge (:func:`~branchnb.branching.drawn_profiles.coast_profile`);
+        when set, :func:`draw_in_style` paints it along the output's edge
+        instead of one line of ``boundary_colour`` (a double coast stays
+        double). None: the single line.
     """
 
     region_colours: np.ndarray
@@ -98,6 +104,7 @@ class DrawingStyle:
     two_tone: bool = False
     taper: float | None = None
     tip_radius: float = 0.0
+    coast_profile: tuple | None = None
 
 
 def _median_colour(img: np.ndarray, mask: np.ndarray, fallback) -> np.ndarray:
@@ -213,8 +220,18 @@ def drawing_style(image: np.ndarray, structure: Structure, layout: np.ndarray, p
             body = np.median([d_out[_pixel(q, w, h)] for q in b.points])
             ends.append(d_out[iy, ix] if d_out[iy, ix] <= 0.5 * body else np.inf)
         tip_reach = _boundary_reach(ends, lim, share=0.5)
-    textures = _region_textures(img, lay, cols, pm, line, b_width if b_col is not None else 0.0,
-                                branch_region)
+    profile = None
+    if b_col is not None:
+        from .drawn_profiles import coast_profile
+
+        rest = lay[~inside]
+        outer = int(np.bincount(rest, minlength=k).argmax()) if rest.size else branch_region
+        profile = coast_profile(img, inside, pm, 3 * max(mean_r, 1.0) + 6, cols[branch_region], cols[outer])
+    # (a texture is read away from every line the coast profile draws)
+    band = b_width if b_col is not None else 0.0
+    if profile is not None:
+        band = max(band, float(np.max(np.abs(profile[0]))))
+    textures = _region_textures(img, lay, cols, pm, line, band, branch_region)
     # a binary line mask: every pixel is the ground colour or the line colour
     two_tone = bool(k == 1 and b_col is None and not textures
                     and np.all(np.minimum(np.abs(img - cols[0]).max(-1), np.abs(img - line).max(-1)) <= 1.5 / 255))
@@ -227,7 +244,7 @@ def drawing_style(image: np.ndarray, structure: Structure, layout: np.ndarray, p
         taper, tip_r = example_taper(structure, lay.shape)
     return DrawingStyle(cols.astype(np.float32), branch_region, line.astype(np.float32), scale,
                         None if b_col is None else b_col.astype(np.float32), b_width, reach, tip_reach,
-                        textures or None, two_tone, taper, tip_r)
+                        textures or None, two_tone, taper, tip_r, profile)
 
 
 def _boundary_line(img, inside, lay, k, pm, mean_r, off_region, unlike_region, line, cover, cols, tol):
@@ -274,9 +291,12 @@ def _boundary_line(img, inside, lay, k, pm, mean_r, off_region, unlike_region, l
 
 
 #: A region is textured when more than ``_TEXTURED_SHARE`` of its pixels away from the lines differ
-#: from its median colour by more than ``_TEXTURED_DEV`` (flat fills and their anti-aliasing stay flat).
+#: from its median colour by more than ``_TEXTURED_DEV`` (flat fills and their anti-aliasing stay flat),
+#: or more than ``_MARKED_SHARE`` of those away from its edge too (marks printed on it: wave dashes,
+#: tree glyphs, stipple; an edge's anti-aliasing is no mark).
 _TEXTURED_DEV = 0.06
 _TEXTURED_SHARE = 0.15
+_MARKED_SHARE = 0.01
 
 
 def _region_textures(img: np.ndarray, lay: np.ndarray, cols: np.ndarray, pm: PixelMap, line: np.ndarray,
@@ -313,16 +333,25 @@ def _region_textures(img: np.ndarray, lay: np.ndarray, cols: np.ndarray, pm: Pix
         m = reg & far
         if np.count_nonzero(m) < 50:
             continue
-        dev = np.linalg.norm(img[m] - cols[g[0] if len(g) == 1 else branch_region], axis=-1)
-        if np.mean(dev > _TEXTURED_DEV) <= _TEXTURED_SHARE:
-            continue
+        ground = cols[g[0] if len(g) == 1 else branch_region]
+        dev = np.linalg.norm(img[m] - ground, axis=-1)
         # away from the region's edge (a drawn boundary and its anti-aliasing) and from any ink
         inner = ndi.binary_erosion(reg, iterations=int(np.ceil(boundary_width)) + 2, border_value=1)
+        if np.mean(dev > _TEXTURED_DEV) <= _TEXTURED_SHARE:
+            mi = m & inner & ndi.binary_erosion(reg, iterations=3, border_value=0)
+            if np.count_nonzero(mi) < 200 or \
+                    np.mean(np.linalg.norm(img[mi] - ground, axis=-1) > _TEXTURED_DEV) <= _MARKED_SHARE:
+                continue
         keep = (pm.dist > pm.radius + 2) & inner & ~ndi.binary_dilation(ink, iterations=1)
         if np.count_nonzero(keep) < 50:
             continue
-        _d, (iy, ix) = ndi.distance_transform_edt(~keep, return_indices=True)
-        tex = img[iy, ix].astype(np.float32)
+        from .drawn_profiles import quilt_fill
+
+        # beyond the example's region: blocks copied whole from it (a nearest-pixel fill smeared marks)
+        tex = quilt_fill(img.astype(np.float32), keep)
+        if tex is None:
+            _d, (iy, ix) = ndi.distance_transform_edt(~keep, return_indices=True)
+            tex = img[iy, ix].astype(np.float32)
         tex = _keep_border_ink(img, tex, reg, ink, pm)
         for i in g:
             out[i] = tex
@@ -565,7 +594,13 @@ def draw_in_style(style: DrawingStyle, structure: Structure, labels: np.ndarray)
         np.multiply(img, 1 - cov[..., None], out=img)
         img[...] += cov[..., None] * np.asarray(colour, np.float32)
 
-    if style.boundary_colour is not None:
+    if style.boundary_colour is not None and style.coast_profile is not None:
+        from .drawn_profiles import paint_coast
+
+        out_lab = lab[~inside]
+        outer = int(np.bincount(np.clip(out_lab, 0, len(cols) - 1)).argmax()) if out_lab.size else style.branch_region
+        img[...] = paint_coast(img, inside, style.coast_profile, cols[style.branch_region], cols[outer])
+    elif style.boundary_colour is not None:
         img[...] = draw_boundary(img, inside, style.boundary_colour, style.boundary_width)
     clear = 2.0 * style.boundary_width + 2.0 if style.boundary_colour is not None else 0.0
     s = _to_outlets(structure, inside, style.outlet_reach, style.tip_reach, clear)
