@@ -231,7 +231,7 @@ def drawing_style(image: np.ndarray, structure: Structure, layout: np.ndarray, p
     band = b_width if b_col is not None else 0.0
     if profile is not None:
         band = max(band, float(np.max(np.abs(profile[0]))))
-    textures = _region_textures(img, lay, cols, pm, line, band, branch_region)
+    textures = _region_textures(img, lay, cols, pm, line, band, branch_region, b_col)
     # a binary line mask: every pixel is the ground colour or the line colour
     two_tone = bool(k == 1 and b_col is None and not textures
                     and np.all(np.minimum(np.abs(img - cols[0]).max(-1), np.abs(img - line).max(-1)) <= 1.5 / 255))
@@ -292,15 +292,15 @@ def _boundary_line(img, inside, lay, k, pm, mean_r, off_region, unlike_region, l
 
 #: A region is textured when more than ``_TEXTURED_SHARE`` of its pixels away from the lines differ
 #: from its median colour by more than ``_TEXTURED_DEV`` (flat fills and their anti-aliasing stay flat),
-#: or more than ``_MARKED_SHARE`` of those away from its edge too (marks printed on it: wave dashes,
+#: or more than ``_MARKED_SHARE`` (0.4 %: a sea sparsely hatched with 1 px dashes has 1 %) of those away from its edge too (marks printed on it: wave dashes,
 #: tree glyphs, stipple; an edge's anti-aliasing is no mark).
 _TEXTURED_DEV = 0.06
 _TEXTURED_SHARE = 0.15
-_MARKED_SHARE = 0.01
+_MARKED_SHARE = 0.004
 
 
 def _region_textures(img: np.ndarray, lay: np.ndarray, cols: np.ndarray, pm: PixelMap, line: np.ndarray,
-                     boundary_width: float, branch_region: int) -> dict:
+                     boundary_width: float, branch_region: int, boundary_colour=None) -> dict:
     """The example's pixels of every region that is not one flat colour, without its lines or boundary.
 
     Beyond the paper (which paints photographs with fragments): a drawn map whose land shows
@@ -308,6 +308,10 @@ def _region_textures(img: np.ndarray, lay: np.ndarray, cols: np.ndarray, pm: Pix
     the branches run through about as densely as through the branch region (>= 0.2x: relief
     levels of the land, not the sea the rivers end at) form one group with it and share its
     texture, so the output's land shows the example's relief.
+
+    Pixels of the coast's colour (``boundary_colour``, within 0.1) at the frame
+    are no texture (a coast drawn along the frame, where the land
+    meets it, was copied as brown bars and specks into the output's land).
     """
     out = {}
     k = len(cols)
@@ -323,7 +327,12 @@ def _region_textures(img: np.ndarray, lay: np.ndarray, cols: np.ndarray, pm: Pix
     d = np.asarray(line, np.float32) - c0
     dd = float(d @ d)
     ink = np.zeros(lay.shape, bool)
+    ground_ink = np.zeros(k, bool)
     if dd > 0.01:
+        # a region whose own colour lies in that cone (a teal sea between a parchment land and blue
+        # rivers) would be all ink: there the cone tells nothing and the region's marks stay
+        tc = np.clip(((cols - c0) @ d) / dd, 0.0, 1.0)
+        ground_ink = (tc > 0.25) & (np.linalg.norm(cols - c0 - tc[:, None] * d, axis=-1) < 0.35 * tc * np.sqrt(dd))
         t = np.clip(((img - c0) @ d) / dd, 0.0, 1.0)
         perp = np.linalg.norm(img - c0 - t[..., None] * d, axis=-1)
         ink = (t > 0.25) & (perp < 0.35 * t * np.sqrt(dd))
@@ -342,13 +351,22 @@ def _region_textures(img: np.ndarray, lay: np.ndarray, cols: np.ndarray, pm: Pix
             if np.count_nonzero(mi) < 200 or \
                     np.mean(np.linalg.norm(img[mi] - ground, axis=-1) > _TEXTURED_DEV) <= _MARKED_SHARE:
                 continue
-        keep = (pm.dist > pm.radius + 2) & inner & ~ndi.binary_dilation(ink, iterations=1)
+        ink_g = ink if len(g) > 1 or not ground_ink[g[0]] else np.zeros_like(ink)
+        if boundary_colour is not None:
+            coast_ink = np.linalg.norm(img - np.asarray(boundary_colour, np.float32), axis=-1) < 0.1
+            rim = np.zeros(lay.shape, bool)
+            e = int(np.ceil(boundary_width)) + 3
+            rim[:e] = rim[-e:] = True
+            rim[:, :e] = rim[:, -e:] = True
+            ink_g = ink_g | (coast_ink & rim & (np.linalg.norm(img - ground, axis=-1) > 0.1))
+        keep = (pm.dist > pm.radius + 2) & inner & ~ndi.binary_dilation(ink_g, iterations=1)
         if np.count_nonzero(keep) < 50:
             continue
         from .drawn_profiles import quilt_fill
 
         # beyond the example's region: blocks copied whole from it (a nearest-pixel fill smeared marks)
-        tex = quilt_fill(img.astype(np.float32), keep)
+        tex = quilt_fill(img.astype(np.float32), keep,
+                         marks=np.linalg.norm(img - ground, axis=-1) > _TEXTURED_DEV)
         if tex is None:
             _d, (iy, ix) = ndi.distance_transform_edt(~keep, return_indices=True)
             tex = img[iy, ix].astype(np.float32)

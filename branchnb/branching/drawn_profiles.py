@@ -36,9 +36,14 @@ _INK = 0.05
 
 
 def _signed_distance(inside: np.ndarray) -> np.ndarray:
-    """Distance to the edge of ``inside``: negative inside (-1 on its outermost pixels), positive outside."""
+    """Distance to the edge of ``inside``: negative inside (about -1 on its outermost pixels), positive outside.
+
+    Smoothed by a Gaussian of one pixel: a raster edge's staircase made every line
+    parallel to it a staircase too (the example is read the same way, so the
+    offsets stay the example's)."""
     m = np.asarray(inside, bool)
-    return np.where(m, -ndi.distance_transform_edt(m), ndi.distance_transform_edt(~m)).astype(np.float32)
+    sd = np.where(m, -ndi.distance_transform_edt(m), ndi.distance_transform_edt(~m)).astype(np.float32)
+    return ndi.gaussian_filter(sd, 1.0, mode="nearest")
 
 
 def coast_profile(image: np.ndarray, inside: np.ndarray, pm: PixelMap, margin: float,
@@ -125,13 +130,16 @@ def paint_coast(img: np.ndarray, inside: np.ndarray, profile, ground_in, ground_
     return out
 
 
-def quilt_fill(tex: np.ndarray, keep: np.ndarray, block: int = 16, seed: int = 0) -> np.ndarray | None:
+def quilt_fill(tex: np.ndarray, keep: np.ndarray, block: int = 16, seed: int = 0,
+               marks: np.ndarray | None = None) -> np.ndarray | None:
     """``tex`` with every pixel outside ``keep`` taken from blocks copied whole from inside it.
 
     The blocks lie on a grid of ``block`` pixels; each one that holds a pixel
     outside ``keep`` gets a randomly chosen source block that lies wholly in
     ``keep`` (smaller blocks when none fits, down to 4 px). None when not even
-    a 4 px block fits."""
+    a 4 px block fits. ``marks``: pixels of marks on the ground (dashes,
+    glyphs); source blocks whose rim crosses one are not used while others
+    exist (a glyph cut by a block's edge left half a tree or a dark speck)."""
     h, w = keep.shape
     rng = np.random.default_rng(seed)
     out = tex.copy()
@@ -142,6 +150,16 @@ def quilt_fill(tex: np.ndarray, keep: np.ndarray, block: int = 16, seed: int = 0
         ys, xs = ys - block // 2, xs - block // 2
         good = (ys >= 0) & (xs >= 0) & (ys + block <= h) & (xs + block <= w)
         ys, xs = ys[good], xs[good]
+        if len(ys) and marks is not None:
+            # marks on a block's rim: the whole block's marks minus its interior's (summed-area table)
+            sat = np.pad(np.asarray(marks, np.int64), ((1, 0), (1, 0))).cumsum(0).cumsum(1)
+
+            def box(y, x, n):
+                return sat[y + n, x + n] - sat[y, x + n] - sat[y + n, x] + sat[y, x]
+
+            rim = box(ys, xs, block) - box(ys + 1, xs + 1, block - 2)
+            if (rim == 0).any():
+                ys, xs = ys[rim == 0], xs[rim == 0]
         if len(ys):
             break
         block //= 2
