@@ -178,6 +178,7 @@ def drawing_style(image: np.ndarray, structure: Structure, layout: np.ndarray, p
     inside = lay == branch_region
     b_col, b_width = _boundary_line(img, inside, lay, k, pm, mean_r, off_region, unlike_region, line, cover,
                                     cols, tol)
+    direct = b_col is not None
     if b_col is None:
         # Beyond the paper: the branch region by colour may be one relief level of the land (a small
         # terrain map whose white lowlands have the colour of the white outside, and whose rivers lie
@@ -221,11 +222,15 @@ def drawing_style(image: np.ndarray, structure: Structure, layout: np.ndarray, p
             ends.append(d_out[iy, ix] if d_out[iy, ix] <= 0.5 * body else np.inf)
         tip_reach = _boundary_reach(ends, lim, share=0.5)
     profile = None
-    if b_col is not None:
+    rest = lay[~inside]
+    outer = int(np.bincount(rest, minlength=k).argmax()) if rest.size else branch_region
+    shore = ~inside & ndi.binary_dilation(inside)
+    if direct and shore.any() and np.mean(lay[shore] == outer) >= 0.9:
+        # (only where the branch region meets one other region, the sea, along its coast: against
+        # relief levels with no line between them, or a coast read along the drawn domain, the
+        # profile across the region's edge is no coast's)
         from .drawn_profiles import coast_profile
 
-        rest = lay[~inside]
-        outer = int(np.bincount(rest, minlength=k).argmax()) if rest.size else branch_region
         profile = coast_profile(img, inside, pm, 3 * max(mean_r, 1.0) + 6, cols[branch_region], cols[outer])
     # (a texture is read away from every line the coast profile draws)
     band = b_width if b_col is not None else 0.0
