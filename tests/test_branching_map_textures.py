@@ -8,12 +8,12 @@ mirrored, so the output's sea lies on the example's land in places and the rever
 import numpy as np
 import pytest
 from scipy import ndimage as ndi
+from test_branching_marked_seas import SEA, _fantasy_map
 
 from branchnb.branching import extract_structure
 from branchnb.branching.drawing import draw_in_style, drawing_style
 from branchnb.branching.skeleton_map import SkeletonMap
 from branchnb.core.structure import Branch, Structure
-from test_branching_marked_seas import SEA, _fantasy_map
 
 COAST = np.array([0.30, 0.20, 0.10], np.float32)
 TREE = np.array([0.25, 0.40, 0.20], np.float32)

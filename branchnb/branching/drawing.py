@@ -297,8 +297,8 @@ def _boundary_line(img, inside, lay, k, pm, mean_r, off_region, unlike_region, l
 
 #: A region is textured when more than ``_TEXTURED_SHARE`` of its pixels away from the lines differ
 #: from its median colour by more than ``_TEXTURED_DEV`` (flat fills and their anti-aliasing stay flat),
-#: or more than ``_MARKED_SHARE`` (0.4 %: a sea sparsely hatched with 1 px dashes has 1 %) of those away from its edge too (marks printed on it: wave dashes,
-#: tree glyphs, stipple; an edge's anti-aliasing is no mark).
+#: or more than ``_MARKED_SHARE`` of those away from its edge too (marks printed on it: wave dashes,
+#: tree glyphs, stipple; an edge's anti-aliasing is no mark; a sea sparsely hatched with 1 px dashes has 1 %).
 _TEXTURED_DEV = 0.06
 _TEXTURED_SHARE = 0.15
 _MARKED_SHARE = 0.004
@@ -568,6 +568,12 @@ def draw_in_style(style: DrawingStyle, structure: Structure, labels: np.ndarray)
     region (not the frame) is drawn with the style's boundary line, then
     every branch with the line colour at ``width_scale * 2 r`` (at least one
     pixel, so no branch breaks into dots).
+
+    With ``style.coast_profile`` the coast is the example's colour profile
+    across its coast painted along the output's region edge (a double coast
+    stays double); a textured or marked region's pixels beyond the example's
+    region are blocks of it copied whole (beyond the paper, issue 23;
+    :mod:`~branchnb.branching.drawn_profiles`).
 
     For a mask (``style.taper`` or ``style.tip_radius`` set) the radii are
     first bounded by what the example shows (beyond the paper, issue 23;

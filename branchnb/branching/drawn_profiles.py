@@ -97,7 +97,8 @@ def coast_profile(image: np.ndarray, inside: np.ndarray, pm: PixelMap, margin: f
         return None
     d = np.asarray(dists, np.float32)
     c = np.asarray(colours, np.float32)
-    ground = np.where((d < 0)[:, None], np.asarray(ground_in, np.float32)[None], np.asarray(ground_out, np.float32)[None])
+    ground = np.where((d < 0)[:, None], np.asarray(ground_in, np.float32)[None],
+                      np.asarray(ground_out, np.float32)[None])
     ink = np.linalg.norm(c - ground, axis=-1) > _INK
     if not ink.any():
         return None
@@ -130,6 +131,11 @@ def paint_coast(img: np.ndarray, inside: np.ndarray, profile, ground_in, ground_
     return out
 
 
+def _box(sat: np.ndarray, y: np.ndarray, x: np.ndarray, n: int) -> np.ndarray:
+    """Sums of the ``n`` x ``n`` boxes at top-left corners (``y``, ``x``) from the summed-area table ``sat``."""
+    return sat[y + n, x + n] - sat[y, x + n] - sat[y + n, x] + sat[y, x]
+
+
 def quilt_fill(tex: np.ndarray, keep: np.ndarray, block: int = 16, seed: int = 0,
                marks: np.ndarray | None = None) -> np.ndarray | None:
     """``tex`` with every pixel outside ``keep`` taken from blocks copied whole from inside it.
@@ -154,10 +160,7 @@ def quilt_fill(tex: np.ndarray, keep: np.ndarray, block: int = 16, seed: int = 0
             # marks on a block's rim: the whole block's marks minus its interior's (summed-area table)
             sat = np.pad(np.asarray(marks, np.int64), ((1, 0), (1, 0))).cumsum(0).cumsum(1)
 
-            def box(y, x, n):
-                return sat[y + n, x + n] - sat[y, x + n] - sat[y + n, x] + sat[y, x]
-
-            rim = box(ys, xs, block) - box(ys + 1, xs + 1, block - 2)
+            rim = _box(sat, ys, xs, block) - _box(sat, ys + 1, xs + 1, block - 2)
             if (rim == 0).any():
                 ys, xs = ys[rim == 0], xs[rim == 0]
         if len(ys):
