@@ -214,6 +214,34 @@ _REFILL_RIMS = True
 _NEAR_LEVEL = 0.2
 
 
+#: Paste a layer's ridge extension (what the residual removed beyond its induced mask) back with it
+#: (see :func:`_removed_extension`).
+_PASTE_EXTENSIONS = True
+
+
+def _removed_extension(a, k: int, e: int, mask: np.ndarray):
+    """What the analysis removed of layer ``k`` on exemplar ``e`` beyond its (completed) ``mask``, or None.
+
+    Going beyond the paper (issue 22). The residual of a thin layer removes
+    its induced mask grown along the layer's ridges
+    (:func:`branchnb.leaves.analysis_induce._ridge_extension`): the faint
+    ends of fine veins the colour term misses. The layer was pasted by its
+    induced mask alone, so those ends left the background and never came
+    back: new maples lost the fine detail at their veins' ends (mean
+    gradient magnitude inside the blade 0.844-0.850 of the exemplars'). The
+    removed pixels are those the residual changed (it leaves every other
+    pixel as it was); the ones more than 1 px beyond ``mask`` are returned.
+    """
+    if k + 1 >= len(a.residuals):
+        return None
+    blade = np.asarray(a.blades[e], bool)
+    before = np.asarray(a.residuals[k][e], np.float32)[..., :3]
+    after = np.asarray(a.residuals[k + 1][e], np.float32)[..., :3]
+    removed = blade & (np.abs(before - after).max(-1) > 1e-4)
+    ext = removed & ~_binary_dilation(mask, iterations=1)
+    return ext if ext.any() else None
+
+
 def _refilled_rims(img: np.ndarray, a, e: int, top) -> np.ndarray:
     """The background ``img`` of exemplar ``e`` with what its layers (but ``top``) left around their masks filled.
 
@@ -425,6 +453,8 @@ class _Prepared:
         # first by the pixels right beside it that stand out as the layer
         # does (:func:`_completed`).
         self.layer_masks, self.layer_weights, self.layer_under = [], [], []
+        # The pasted masks without their ridge extensions, where they have one (for _agreement).
+        cores = [[None] * self.n for _ in a.layers]
         for k, L in enumerate(a.layers):
             ms, ws, us = [], [], []
             for e in range(self.n):
@@ -439,6 +469,13 @@ class _Prepared:
                 elif mk.any():
                     line = _LINE_KNOBS and leftover is not None and k == leftover[0]
                     mk, under = _completed(self.stage[k][e], a.blades[e], mk, line=line)
+                    ext = _removed_extension(a, k, e, mk) if _PASTE_EXTENSIONS else None
+                    if ext is not None:
+                        cores[k][e] = _binary_dilation(mk) & a.blades[e]
+                        # The layer's ridge extension comes back with it (see _removed_extension).
+                        mk = mk | ext
+                        under = _smooth_fill(np.asarray(self.stage[k][e], np.float32)[..., :3],
+                                             a.blades[e] & ~_binary_dilation(mk, iterations=2))
                     us.append(_stored(under))
                 else:
                     us.append(self.under[k + 1][e])
@@ -453,7 +490,8 @@ class _Prepared:
         # ratio to the leaf under it, minus 1, of the training leaf's sign).
         # A layer of the other sign is another structure (dark dots induced
         # as a grass strip's pale veins): synthesis passes it over as a donor.
-        self.layer_agrees = [self._agreement(k) for k in range(len(a.layers))]
+        self.layer_agrees = [self._agreement(k, cores[k]) for k in range(len(a.layers))]
+        del cores
         # How complete each exemplar's induced layer is: its skeleton's
         # length over that of the training layer carried onto it (the
         # registered mask), at most 1, over the median of the exemplars'
@@ -524,11 +562,16 @@ class _Prepared:
         self.leftover = leftover
         self._own = {}
 
-    def _agreement(self, k: int) -> list[bool]:
-        """Per exemplar: layer ``k`` stands out from the leaf under it with the training leaf's sign."""
+    def _agreement(self, k: int, cores=None) -> list[bool]:
+        """Per exemplar: layer ``k`` stands out from the leaf under it with the training leaf's sign.
+
+        Read on ``cores[e]`` where given (the pasted mask without its faint
+        ridge extension, whose pixels barely stand out), else on the pasted mask.
+        """
         sign = []
         for e in range(self.n):
-            mk = self.layer_masks[k][e] > 0.5
+            core = None if cores is None else cores[e]
+            mk = self.layer_masks[k][e] > 0.5 if core is None else core
             if not mk.any():
                 sign.append(0.0)
                 continue

@@ -363,6 +363,8 @@ class SynthesisParams:
     smooth_bootstrap: bool = param(True, help="pose: one exemplar's plus a small Gaussian kernel")
     pose_kernel: float = param(0.15, min=0.0, max=1.0, step=0.05,
                                help="pose kernel of the smoothed bootstrap (share of Silverman's bandwidth)")
+    lead_spread: float = param(0.5, min=0.0, max=2.0, step=0.05,
+                               help="spread around the leading exemplar (share of its nearest neighbour's distance)")
     correct: bool = param(True, help="texture correction where the shape warp stretches")
     donor_size_sigma: float = param(0.05, min=0.0, max=2.0, step=0.01,
                                     help="layer donors of about the new leaf's size (log-size sigma; 0: any)")
