@@ -31,7 +31,12 @@ A new leaf is built in the training leaf's frame, then given a new shape:
    the pixels right beside it that stand out as the layer does
    (:func:`branchnb.leaves.prepared._completed`): against the analysis'
    residual, which keeps what the induced mask missed, a drawn oak's wide
-   veins traced on their two rims were pasted hollow.
+   veins traced on their two rims were pasted hollow. The mask also takes
+   back what the residual removed beyond it (a thin layer's ridge
+   extension, :func:`branchnb.leaves.prepared._removed_extension`): the
+   faint ends of fine veins had left the background and never came back
+   (7 sample maples, 6 new leaves, rng 0-2: mean gradient magnitude inside
+   the new blades over the exemplars' 0.845-0.850 -> 0.902-0.928).
    One vein system (going beyond the paper, ``one_system``): before the
    most structural layer goes on, the background's own lines of that
    layer running beside the donor's pasted footprint (within ``eps`` plus
@@ -363,8 +368,6 @@ class SynthesisParams:
     smooth_bootstrap: bool = param(True, help="pose: one exemplar's plus a small Gaussian kernel")
     pose_kernel: float = param(0.15, min=0.0, max=1.0, step=0.05,
                                help="pose kernel of the smoothed bootstrap (share of Silverman's bandwidth)")
-    lead_spread: float = param(0.5, min=0.0, max=2.0, step=0.05,
-                               help="spread around the leading exemplar (share of its nearest neighbour's distance)")
     correct: bool = param(True, help="texture correction where the shape warp stretches")
     donor_size_sigma: float = param(0.05, min=0.0, max=2.0, step=0.01,
                                     help="layer donors of about the new leaf's size (log-size sigma; 0: any)")

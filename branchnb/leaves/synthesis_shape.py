@@ -48,9 +48,6 @@ def _shape_map(p, params, seed: int, rng):
         # convex, combination; see SynthesisParams.restore_spread).
         w_i = wts[i] if gain == 1.0 else np.float32(1.0 / n_c) + np.float32(gain) * (wts[i] - np.float32(1.0 / n_c))
         m += w_i[..., None] * p.shape_maps[i]
-    pose_nn = 0.0
-    if params.lead_spread > 0 and n_c > 1:
-        m, pose_nn = _spread_around_lead(p, m, lead, comp, params.lead_spread)
     # The pose of one exemplar: new leaves lie as variously as the
     # exemplars do (the weighted mean pose gave every new leaf nearly the
     # same angle: median pairwise blade IoU 0.80 against the exemplars' 0.58
@@ -74,8 +71,7 @@ def _shape_map(p, params, seed: int, rng):
     # pairwise blade IoU around the exemplars' with the full one).
     z_pose = float(np.clip(np.random.default_rng((int(seed), 5)).standard_normal(), -1.5, 1.5)) \
         if params.smooth_bootstrap else 0.0
-    sd_pose = max(params.pose_kernel * p.pose_bandwidth, params.lead_spread * pose_nn)
-    m = p.posed(m, np.eye(n)[pose_from], z_pose * sd_pose)
+    m = p.posed(m, np.eye(n)[pose_from], z_pose * params.pose_kernel * p.pose_bandwidth)
     # The size of the leading exemplar (see _exemplar_draws and _fit_size);
     # that exemplar gives the background too, so its texture is seen at its
     # own scale (a small exemplar's residual blown up to a large one's size
@@ -115,42 +111,3 @@ def _fit_with_petiole(p, params, seed: int, m, size_from: int):
         if pet is None or best == 0:
             break
     return m, pet, pet_j
-
-
-#: Largest factor by which :func:`_spread_around_lead` enlarges a blend's departure from its lead.
-_SPREAD_GAIN_MAX = 4.0
-
-
-def _spread_around_lead(p, m, lead: int, comp, spread: float):
-    """The upright blend ``m`` departing from exemplar ``lead``'s map by at least ``spread`` times its
-    nearest compatible neighbour's distance, and the lead's pose distance to its nearest neighbour.
-
-    Going beyond the paper (issue 22): an adaptive kernel around the
-    leading exemplar. A blend whose weights one exemplar dominates is a
-    near-copy of it (blade IoU 0.82-0.93 to its lead on a procedural
-    trilobed family of 4), so two leaves of a batch sharing a lead were
-    alike, and an exemplar far from the others (one lying 36 degrees from
-    the rest) gave only far leaves: median pairwise blade IoU of a batch
-    swung by 0.1 with whether it was a repeated lead. The departure
-    ``m - S_lead`` (median over the training blade, in leaf sizes) is
-    scaled up to ``spread`` times the distance from the lead's map to its
-    nearest compatible exemplar's (at most ``_SPREAD_GAIN_MAX`` times; a
-    larger departure is kept), so an exemplar among close neighbours keeps
-    its leaves near it and a lone one spreads them towards the others'
-    distances. Returns ``(m, pose_nn)``: the pose kernel is widened the
-    same way (``pose_nn``: radians to the nearest exemplar's pose).
-    """
-    p.compatible(lead, 0.0)  # fills p._map_dist
-    others = [j for j in np.flatnonzero(comp) if j != lead]
-    d_nn = float(min(p._map_dist[lead, j] for j in others))
-    ang = np.asarray(p.pose_angles, float)
-    pose_nn = float(min(abs(np.angle(np.exp(1j * (ang[j] - ang[lead])))) for j in others))
-    b = p.analysis.blades[p.analysis.training_index]
-    step = max(1, int(np.sqrt(b.sum() / 4000)))
-    dev = (m - p.shape_maps[lead])
-    d_cur = float(np.median(np.hypot(*dev[::step, ::step][b[::step, ::step]].T))) / p.size
-    want = spread * d_nn
-    if d_cur >= want or want <= 0:
-        return m, pose_nn
-    gain = np.float32(min(want / max(d_cur, 1e-9), _SPREAD_GAIN_MAX))
-    return p.shape_maps[lead] + gain * dev, pose_nn
