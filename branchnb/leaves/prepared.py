@@ -242,6 +242,28 @@ def _removed_extension(a, k: int, e: int, mask: np.ndarray):
     return ext if ext.any() else None
 
 
+def _standing_out(img, blade, mask, ext, level: float = 0.25):
+    """The pixels of ``ext`` that stand out from the leaf around them as layer ``mask`` does, or None.
+
+    Strength as in :func:`_completed`: the difference from the blade filled
+    smoothly over ``mask`` and ``ext`` (grown by 2 px), projected on the
+    layer's median difference; kept from ``level`` of it. (The ridge
+    extension also reached other marks whose ridge filter answers, and
+    pasted they showed as faint rims.)
+    """
+    if not ext.any():
+        return None
+    img = np.asarray(img, np.float32)[..., :3]
+    under = _smooth_fill(img, blade & ~_binary_dilation(mask | ext, iterations=2))
+    diff = img - under
+    d = np.median(diff[mask], axis=0)
+    dn = float((d ** 2).sum())
+    if dn < 1e-6:
+        return None
+    keep = ext & ((diff @ d) / dn >= level)
+    return keep if keep.any() else None
+
+
 def _refilled_rims(img: np.ndarray, a, e: int, top) -> np.ndarray:
     """The background ``img`` of exemplar ``e`` with what its layers (but ``top``) left around their masks filled.
 
@@ -455,6 +477,15 @@ class _Prepared:
         self.layer_masks, self.layer_weights, self.layer_under = [], [], []
         # The pasted masks without their ridge extensions, where they have one (for _agreement).
         cores = [[None] * self.n for _ in a.layers]
+
+        def others(k, e):
+            # Every other layer's pixels on exemplar e, grown by 2 px: a vein's ridge extension reaching
+            # into a spot's rim brought rims of the donor's spots onto new leaves without spots there.
+            out = np.zeros(a.blades[e].shape, bool)
+            for j, Lj in enumerate(a.layers):
+                if j != k:
+                    out |= np.asarray(Lj.masks[e], bool)
+            return _binary_dilation(out, iterations=2) if out.any() else out
         for k, L in enumerate(a.layers):
             ms, ws, us = [], [], []
             for e in range(self.n):
@@ -470,6 +501,8 @@ class _Prepared:
                     line = _LINE_KNOBS and leftover is not None and k == leftover[0]
                     mk, under = _completed(self.stage[k][e], a.blades[e], mk, line=line)
                     ext = _removed_extension(a, k, e, mk) if _PASTE_EXTENSIONS else None
+                    if ext is not None:
+                        ext = _standing_out(self.stage[k][e], a.blades[e], mk, ext & ~others(k, e))
                     if ext is not None:
                         cores[k][e] = _binary_dilation(mk) & a.blades[e]
                         # The layer's ridge extension comes back with it (see _removed_extension).
