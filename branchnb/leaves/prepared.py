@@ -242,28 +242,6 @@ def _removed_extension(a, k: int, e: int, mask: np.ndarray):
     return ext if ext.any() else None
 
 
-def _standing_out(img, blade, mask, ext, level: float = 0.25):
-    """The pixels of ``ext`` that stand out from the leaf around them as layer ``mask`` does, or None.
-
-    Strength as in :func:`_completed`: the difference from the blade filled
-    smoothly over ``mask`` and ``ext`` (grown by 2 px), projected on the
-    layer's median difference; kept from ``level`` of it. (The ridge
-    extension also reached other marks whose ridge filter answers, and
-    pasted they showed as faint rims.)
-    """
-    if not ext.any():
-        return None
-    img = np.asarray(img, np.float32)[..., :3]
-    under = _smooth_fill(img, blade & ~_binary_dilation(mask | ext, iterations=2))
-    diff = img - under
-    d = np.median(diff[mask], axis=0)
-    dn = float((d ** 2).sum())
-    if dn < 1e-6:
-        return None
-    keep = ext & ((diff @ d) / dn >= level)
-    return keep if keep.any() else None
-
-
 def _refilled_rims(img: np.ndarray, a, e: int, top) -> np.ndarray:
     """The background ``img`` of exemplar ``e`` with what its layers (but ``top``) left around their masks filled.
 
@@ -480,17 +458,6 @@ class _Prepared:
         # The ridge extensions pasted back (None: none), kept inside the exemplars' blade colours when pasted.
         self.layer_ext = exts = [[None] * self.n for _ in a.layers]
 
-        ex_px = np.concatenate([np.asarray(a.exemplars[e], np.float32)[..., :3][a.blades[e]] for e in range(self.n)])
-        ex_lo, ex_hi = np.percentile(ex_px, 0.5, axis=0), np.percentile(ex_px, 99.5, axis=0)
-        del ex_px
-
-        def in_range(k, e):
-            # Within the exemplars' blade colours (0.5th-99.5th percentiles): the extension also took
-            # dark flecks joined to a maple's veins, which pasted back put new maples' blades out of
-            # their exemplars' colours (test_leaves_photos: 0.962 -> 0.952 of a blade inside, floor 0.954).
-            img = np.asarray(self.stage[k][e], np.float32)[..., :3]
-            return np.all((img >= ex_lo) & (img <= ex_hi), axis=-1)
-
         def others(k, e):
             # Every other layer's pixels on exemplar e, grown by 2 px: a vein's ridge extension reaching
             # into a spot's rim brought rims of the donor's spots onto new leaves without spots there.
@@ -515,7 +482,8 @@ class _Prepared:
                     mk, under = _completed(self.stage[k][e], a.blades[e], mk, line=line)
                     ext = _removed_extension(a, k, e, mk) if _PASTE_EXTENSIONS else None
                     if ext is not None:
-                        ext = _standing_out(self.stage[k][e], a.blades[e], mk, ext & ~others(k, e) & in_range(k, e))
+                        ext = ext & ~others(k, e)
+                        ext = ext if ext.any() else None
                     if ext is not None:
                         exts[k][e] = _stored(ext)
                         cores[k][e] = _binary_dilation(mk) & a.blades[e]
