@@ -229,12 +229,13 @@ def _removed_extension(a, k: int, e: int, mask: np.ndarray):
     induced mask alone, so those ends left the background and never came
     back: new maples lost the fine detail at their veins' ends (mean
     gradient magnitude inside the blade 0.845-0.850 of the exemplars' on 7
-    sample maples, 6 new leaves, rng 0-2; pasted back 0.902-0.927). The
+    sample maples, 6 new leaves, rng 0-2; pasted back 0.887-0.917). The
     removed pixels are those the residual changed (it leaves every other
     pixel as it was); the ones more than 1 px beyond ``mask`` are returned.
     :class:`_Prepared` leaves out those within 2 px of another layer's mask
     (a vein's extension reaching into a spot's rim pasted faint rims where
-    the new leaf had no spot), and the pasted colours there are clipped to
+    the new leaf had no spot) and pieces shorter than 8 px
+    (:func:`_without_specks`), and the pasted colours there are clipped to
     the exemplars' blade colours (``synthesis_layers._paste_layers``).
     """
     if k + 1 >= len(a.residuals):

@@ -36,7 +36,7 @@ A new leaf is built in the training leaf's frame, then given a new shape:
    extension, :func:`branchnb.leaves.prepared._removed_extension`): the
    faint ends of fine veins had left the background and never came back
    (7 sample maples, 6 new leaves, rng 0-2: mean gradient magnitude inside
-   the new blades over the exemplars' 0.845-0.850 -> 0.902-0.928).
+   the new blades over the exemplars' 0.845-0.850 -> 0.887-0.917).
    One vein system (going beyond the paper, ``one_system``): before the
    most structural layer goes on, the background's own lines of that
    layer running beside the donor's pasted footprint (within ``eps`` plus
