@@ -31,7 +31,12 @@ A new leaf is built in the training leaf's frame, then given a new shape:
    the pixels right beside it that stand out as the layer does
    (:func:`branchnb.leaves.prepared._completed`): against the analysis'
    residual, which keeps what the induced mask missed, a drawn oak's wide
-   veins traced on their two rims were pasted hollow.
+   veins traced on their two rims were pasted hollow. The mask also takes
+   back what the residual removed beyond it (a thin layer's ridge
+   extension, :func:`branchnb.leaves.prepared._removed_extension`): the
+   faint ends of fine veins had left the background and never came back
+   (7 sample maples, 6 new leaves, rng 0-2: mean gradient magnitude inside
+   the new blades over the exemplars' 0.845-0.850 -> 0.887-0.917).
    One vein system (going beyond the paper, ``one_system``): before the
    most structural layer goes on, the background's own lines of that
    layer running beside the donor's pasted footprint (within ``eps`` plus

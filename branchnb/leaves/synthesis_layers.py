@@ -227,6 +227,13 @@ def _paste_layers(p, params, rng, m, m_full, inside_full, alpha, rgb, c_bg, bg: 
             # gradient magnitude inside the blade 0.831-0.835 -> 0.844-0.850 of
             # the exemplars', Laplacian variance 0.98-1.12 -> 1.07-1.20).
             _contrast_colours(p, k, e, c, on, col, rgb, rgb if _hairline(p, k) else rgb_low)
+        ext = getattr(p, "layer_ext", None)
+        if ext is not None and ext[k][e] is not None:
+            # A vein's faint ends (its ridge extension, prepared._removed_extension) are blade colours in
+            # the exemplars; their ratio onto another leaf put 1 % of a new maple's blade below the
+            # exemplars' 0.5th percentile of blue (tests/test_leaves_photos.py).
+            x = on & (_sample(ext[k][e], c)[..., 0] > 0.5)
+            col[x] = np.clip(col[x], *p.blade_range)
         wgt = (np.clip(_sample(p.layer_weights[k][e], c)[..., 0], 0, None) + 1e-6) * a_k
         cover = np.maximum(cover, a_k)
         mix += wgt[..., None] * col
