@@ -101,6 +101,8 @@ def test_coast_sea_with_river_mouths_stays_branch_tied():
     model = fit_region_layout(lay, ex)
     assert not model.bands
     assert not frame_bands(lay, np.array([[50.0, 199.0], [128.0, 199.0], [200.0, 199.0]]), np.ones((h, w)), [0])
+    # two forks of a bolt striking the same band in one place leave it tied to the frame
+    assert frame_bands(lay, np.array([[120.0, 199.0], [135.0, 198.0], [60.0, 40.0]]), np.ones((h, w)), [0])
 
 
 def test_frame_bands_rejects_bad_layout():

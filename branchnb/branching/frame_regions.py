@@ -16,10 +16,13 @@ A region is frame-tied to one side when (all on the example):
 * its far edge runs along the side: the depth profile's spread (std) is at most :data:`EDGE_SPREAD`
   of the image across the side (a skyline's steps, a hill line, a horizon are; a coast that runs
   from one corner deep into the image is not);
-* the branches do not explain it: fewer than :data:`MAX_OUTLETS` of the branches' outlets (river
-  mouths, :func:`~branchnb.branching.layout_model._root_starts`) lie on its far edge, and no branch
-  runs in it (it is no branch-bearing region). A coast map's sea along a side holds every river
-  mouth on its edge and stays branch-tied.
+* the branches do not explain it: no branch runs in it (it is no branch-bearing region), and fewer
+  than :data:`MAX_OUTLETS` of the branches' ends (roots and tips) lie on its edge, or those that do
+  lie close together (spread along the side over less than :data:`END_SPAN` of it). A coast map's
+  sea along a side holds its river mouths all along the coast, a delta's sea its distributaries'
+  mouths: both stay branch-tied (laid out round the target's mouths); the forks of a bolt that
+  strike a hill line or the sea horizon hit it in one place (span 0.04-0.10 of the side on the
+  examples of :mod:`branchnb` issue 23, against 0.60-0.76 for drawn maps' and deltas' coasts).
 """
 
 from __future__ import annotations
@@ -38,10 +41,12 @@ BAND_SHARE = 0.97
 MAX_DEPTH = 0.5
 #: Largest std of a band's depth profile, as a share of the image across its side.
 EDGE_SPREAD = 0.12
-#: A region with this many outlets (root starts) on its far edge is tied to the branches.
+#: A region with this many branch ends (roots, tips) on its edge is tied to the branches.
 MAX_OUTLETS = 2
-#: An outlet lies on the far edge when within this many pixels (plus the branch's radius) of it.
+#: A branch end lies on the edge when within this many pixels (plus the branch's radius) of it.
 OUTLET_REACH = 6.0
+#: Ends on a region's edge spread along its side over at least this share of it make it branch-tied.
+END_SPAN = 0.3
 
 _SIDES = ("bottom", "top", "right", "left")
 
@@ -94,17 +99,17 @@ def _run_depth(m: np.ndarray) -> np.ndarray:
     return stop.astype(np.int64)
 
 
-def frame_bands(layout: np.ndarray, starts: np.ndarray, radius: np.ndarray, exclude) -> list[FrameBand]:
+def frame_bands(layout: np.ndarray, ends: np.ndarray, radius: np.ndarray, exclude) -> list[FrameBand]:
     """The frame-tied regions of an example's layout (see the module's doc).
 
     Parameters
     ----------
     layout : (H, W) int ndarray
         The example's region layout.
-    starts : (R, 2) ndarray
-        The branches' outlets (x, y).
+    ends : (R, 2) ndarray
+        The branches' ends (x, y): every root's first point and every tip.
     radius : (H, W) ndarray
-        Radius of the nearest branch at every pixel (only read at the outlets).
+        Radius of the nearest branch at every pixel (only read at the ends).
     exclude : iterable of int
         Labels never frame-tied (the branch region and regions the branches run in).
 
@@ -117,7 +122,7 @@ def frame_bands(layout: np.ndarray, starts: np.ndarray, radius: np.ndarray, excl
     if lay.ndim != 2:
         raise ValueError(f"layout must be 2-D, got shape {lay.shape}")
     excl = {int(e) for e in exclude}
-    starts = np.asarray(starts, np.float64).reshape(-1, 2)
+    ends = np.asarray(ends, np.float64).reshape(-1, 2)
     out = []
     for k in np.unique(lay):
         if int(k) in excl:
@@ -134,16 +139,17 @@ def frame_bands(layout: np.ndarray, starts: np.ndarray, radius: np.ndarray, excl
             rel = d / across
             if rel.mean() > MAX_DEPTH or rel.std() > EDGE_SPREAD:
                 continue
-            if len(starts):
-                # outlets on the far edge: the region's pixels near them, above the band's side
-                ok = 0
-                for x, y in starts:
+            if len(ends):
+                # an end on the region's edge has both the region and another one within reach
+                along = []
+                for x, y in ends:
                     xi, yi = int(np.clip(round(x), 0, m.shape[1] - 1)), int(np.clip(round(y), 0, m.shape[0] - 1))
                     r = int(np.ceil(OUTLET_REACH + float(radius[yi, xi]) if np.isfinite(radius[yi, xi])
                                     else OUTLET_REACH))
                     win = m[max(0, yi - r): yi + r + 1, max(0, xi - r): xi + r + 1]
-                    ok += int(win.any() and not win.all())
-                if ok >= MAX_OUTLETS:
+                    if win.any() and not win.all():
+                        along.append(x / m.shape[1] if side in ("bottom", "top") else y / m.shape[0])
+                if len(along) >= MAX_OUTLETS and np.ptp(along) >= END_SPAN:
                     continue
             out.append(FrameBand(int(k), side, rel.astype(np.float64)))
             break

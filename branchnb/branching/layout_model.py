@@ -292,7 +292,8 @@ def fit_region_layout(layout: np.ndarray, structure: Structure, pm: PixelMap | N
     frame rather than to the branches (a city skyline or a hill line along
     the bottom of a lightning photograph, the floor under a neon sign: a
     band along one side with a far edge running along it, holding no
-    branch and fewer than 2 river mouths on its edge) is kept as a
+    branch and fewer than 2 branch ends (river mouths, a delta's mouths)
+    on its edge) is kept as a
     :class:`~branchnb.branching.frame_regions.FrameBand` and laid out by
     the frame (:mod:`.frame_regions`). Laid out by the branches it came
     out as wedges and coast-like blobs (a neon sign's floor rectangle: IoU
@@ -338,8 +339,10 @@ def fit_region_layout(layout: np.ndarray, structure: Structure, pm: PixelMap | N
     if len(labels) >= 2:
         from .frame_regions import frame_bands
 
-        starts, _ = _root_starts(structure)
-        bands = frame_bands(lay, starts, pm.radius, labels[bearing]) or None
+        # every branch's last point is a free end (children start on their parent's vertices)
+        ends = [np.asarray(br.points[0]) for br in structure.branches if br.parent is None] + \
+            [np.asarray(br.points[-1]) for br in structure.branches]
+        bands = frame_bands(lay, np.asarray(ends, np.float64).reshape(-1, 2), pm.radius, labels[bearing]) or None
     return RegionLayoutModel(labels, shares, branch_region, sigma, min_area, clf, bearing, bands)
 
 
@@ -353,7 +356,10 @@ def layout_regions(model: RegionLayoutModel, structure: Structure, shape, pm: Pi
     the branch region, and pieces of a region smaller than its smallest
     piece in the example are absorbed by their surroundings. The
     boundaries are smooth curves (iso-lines of distances), never block
-    edges.
+    edges. Regions tied to the frame (``model.bands``, going beyond the
+    paper) are placed by the frame first (their depth profile along their
+    side, stretched to the grid: the example's own region at its size)
+    and appear nowhere else; a target branch crossing one is drawn over it.
 
     Parameters
     ----------
