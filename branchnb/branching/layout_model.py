@@ -292,8 +292,8 @@ def fit_region_layout(layout: np.ndarray, structure: Structure, pm: PixelMap | N
     frame rather than to the branches (a city skyline or a hill line along
     the bottom of a lightning photograph, the floor under a neon sign: a
     band along one side with a far edge running along it, holding no
-    branch and fewer than 2 branch ends (river mouths, a delta's mouths)
-    on its edge) is kept as a
+    branch and no two branch ends spread along its edge as river mouths
+    along a coast or a delta's mouths are) is kept as a
     :class:`~branchnb.branching.frame_regions.FrameBand` and laid out by
     the frame (:mod:`.frame_regions`). Laid out by the branches it came
     out as wedges and coast-like blobs (a neon sign's floor rectangle: IoU
