@@ -232,6 +232,11 @@ class RegionLayoutModel:
         lines besides the branch region (a drawn tree's branches run on
         white ground and through a green crown); a target branch may lie in
         any of them. None: only in the branch region.
+    bands : list of FrameBand, optional
+        Regions tied to the image frame, not to the branches (a skyline or
+        a floor along the bottom, :func:`~branchnb.branching.frame_regions.frame_bands`):
+        laid out by the frame alone. None or empty: every region is laid
+        out around the branches.
     """
 
     labels: np.ndarray
@@ -241,6 +246,7 @@ class RegionLayoutModel:
     min_area: np.ndarray
     classifier: object | None = None
     bearing: np.ndarray | None = None
+    bands: list | None = None
 
 
 def _stride(shape) -> int:
@@ -281,6 +287,17 @@ def fit_region_layout(layout: np.ndarray, structure: Structure, pm: PixelMap | N
     and on which side of it, how one-sided the branches around it are, and
     how far outside the skeleton's convex hull (beyond the coast line
     through the mouths) it lies; never its distance to the image frame.
+
+    Going beyond the paper (issue 23, branching96): a region tied to the
+    frame rather than to the branches (a city skyline or a hill line along
+    the bottom of a lightning photograph, the floor under a neon sign: a
+    band along one side with a far edge running along it, holding no
+    branch and no two branch ends spread along its edge as river mouths
+    along a coast or a delta's mouths are) is kept as a
+    :class:`~branchnb.branching.frame_regions.FrameBand` and laid out by
+    the frame (:mod:`.frame_regions`). Laid out by the branches it came
+    out as wedges and coast-like blobs (a neon sign's floor rectangle: IoU
+    with the example's floor 0.00-0.05 at the example's size).
     """
     from sklearn.ensemble import ExtraTreesClassifier
 
@@ -318,7 +335,15 @@ def fit_region_layout(layout: np.ndarray, structure: Structure, pm: PixelMap | N
         clf.fit(X[::step], y[::step])
     on_share = np.array([np.mean(on == k) for k in labels]) if on.size else np.zeros(len(labels))
     bearing = (on_share >= 0.1) | (labels == branch_region)
-    return RegionLayoutModel(labels, shares, branch_region, sigma, min_area, clf, bearing)
+    bands = None
+    if len(labels) >= 2:
+        from .frame_regions import frame_bands
+
+        # every branch's last point is a free end (children start on their parent's vertices)
+        ends = [np.asarray(br.points[0]) for br in structure.branches if br.parent is None] + \
+            [np.asarray(br.points[-1]) for br in structure.branches]
+        bands = frame_bands(lay, np.asarray(ends, np.float64).reshape(-1, 2), pm.radius, labels[bearing]) or None
+    return RegionLayoutModel(labels, shares, branch_region, sigma, min_area, clf, bearing, bands)
 
 
 def layout_regions(model: RegionLayoutModel, structure: Structure, shape, pm: PixelMap | None = None, *,
@@ -331,7 +356,10 @@ def layout_regions(model: RegionLayoutModel, structure: Structure, shape, pm: Pi
     the branch region, and pieces of a region smaller than its smallest
     piece in the example are absorbed by their surroundings. The
     boundaries are smooth curves (iso-lines of distances), never block
-    edges.
+    edges. Regions tied to the frame (``model.bands``, going beyond the
+    paper) are placed by the frame first (their depth profile along their
+    side, stretched to the grid: the example's own region at its size)
+    and appear nowhere else; a target branch crossing one is drawn over it.
 
     Parameters
     ----------
@@ -383,6 +411,18 @@ def layout_regions(model: RegionLayoutModel, structure: Structure, shape, pm: Pi
     bearing = np.zeros(K, bool) if model.bearing is None else np.asarray(model.bearing, bool)
     bearing[br] = True
     several = bool(bearing.sum() >= 2)
+    fixed = None
+    if model.bands:
+        # frame-tied regions lie where the frame puts them, and nowhere else (no islands of a skyline)
+        from .frame_regions import place_bands
+
+        fixed = place_bands(model.bands, (h, w))
+        fixed_i = np.where(fixed >= 0, np.searchsorted(model.labels, np.maximum(fixed, model.labels.min())), -1)
+        tied = np.zeros(K, bool)
+        for b in model.bands:
+            tied[int(np.flatnonzero(model.labels == b.label)[0])] = True
+        body = body & (fixed < 0)
+        logp[..., tied] = -1e3
     if several:
         on_body = logp[body]
         on_body[:, ~bearing] = -1e3
@@ -398,6 +438,8 @@ def layout_regions(model: RegionLayoutModel, structure: Structure, shape, pm: Pi
     hi = model.shares * (1.0 + share_tolerance) + 0.005
     for _ in range(40):
         lab = np.argmax(logp + bias, axis=-1)
+        if fixed is not None:
+            lab = np.where(fixed_i >= 0, fixed_i, lab)
         cur = np.bincount(lab.ravel(), minlength=K) / lab.size
         goal = np.clip(cur, lo, hi)
         if np.all(np.abs(cur - goal) < 0.002):
@@ -405,10 +447,14 @@ def layout_regions(model: RegionLayoutModel, structure: Structure, shape, pm: Pi
         bias += 0.7 * np.log((goal + 1e-3) / (cur + 1e-3)).astype(np.float32)
     lab = np.argmax(logp + bias, axis=-1)
     lab[body] = np.where(bearing[lab[body]], lab[body], br) if several else br
+    if fixed is not None:
+        lab = np.where(fixed_i >= 0, fixed_i, lab)
     # Specks: pieces smaller than half the example's smallest piece of that
     # region, holding no branch, join their surroundings (a short river's
     # floodplain is small but stays).
     for k in range(K):
+        if fixed is not None and tied[k]:
+            continue
         pieces, n = ndi.label(lab == k)
         if n <= 1:
             continue
