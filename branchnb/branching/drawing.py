@@ -351,12 +351,16 @@ def _region_textures(img: np.ndarray, lay: np.ndarray, cols: np.ndarray, pm: Pix
         dev = np.linalg.norm(img[m] - ground, axis=-1)
         # away from the region's edge (a drawn boundary and its anti-aliasing) and from any ink
         inner = ndi.binary_erosion(reg, iterations=int(np.ceil(boundary_width)) + 2, border_value=1)
-        if np.mean(dev > _TEXTURED_DEV) <= _TEXTURED_SHARE:
-            mi = m & inner & ndi.binary_erosion(reg, iterations=3, border_value=0)
+        ink_g = ink if len(g) > 1 or not ground_ink[g[0]] else np.zeros_like(ink)
+        sparse = np.mean(dev > _TEXTURED_DEV) <= _TEXTURED_SHARE
+        if sparse:
+            # (ink of lines the structure does not hold, and its anti-aliasing, is no mark: a flat
+            # country crossed by unextracted river ends was taken as marked and quilted with ghost lines)
+            mi = m & inner & ndi.binary_erosion(reg, iterations=3, border_value=0) \
+                & ~ndi.binary_dilation(ink_g, iterations=2)
             if np.count_nonzero(mi) < 200 or \
                     np.mean(np.linalg.norm(img[mi] - ground, axis=-1) > _TEXTURED_DEV) <= _MARKED_SHARE:
                 continue
-        ink_g = ink if len(g) > 1 or not ground_ink[g[0]] else np.zeros_like(ink)
         if boundary_colour is not None:
             coast_ink = np.linalg.norm(img - np.asarray(boundary_colour, np.float32), axis=-1) < 0.1
             rim = np.zeros(lay.shape, bool)
@@ -369,9 +373,16 @@ def _region_textures(img: np.ndarray, lay: np.ndarray, cols: np.ndarray, pm: Pix
             continue
         from .drawn_profiles import quilt_fill
 
-        # beyond the example's region: blocks copied whole from it (a nearest-pixel fill smeared marks)
-        tex = quilt_fill(img.astype(np.float32), keep,
-                         marks=np.linalg.norm(img - ground, axis=-1) > _TEXTURED_DEV)
+        # beyond the example's region: blocks copied whole from it (a nearest-pixel fill smeared marks).
+        # Only for one region's texture: a group's (relief levels, two countries the rivers cross) keeps
+        # the example's pixels where they are, since blocks moved the levels and the countries' border
+        # about (the Czech relief drawn white with streaks, a green country's specks in the other).
+        # Marks steer the blocks only where they are sparse: on relief (greys over most of the region)
+        # every block's rim crosses one, and the few unmarked blocks drew the land white.
+        tex = None
+        if len(g) == 1:
+            tex = quilt_fill(img.astype(np.float32), keep,
+                             marks=(np.linalg.norm(img - ground, axis=-1) > _TEXTURED_DEV) if sparse else None)
         if tex is None:
             _d, (iy, ix) = ndi.distance_transform_edt(~keep, return_indices=True)
             tex = img[iy, ix].astype(np.float32)
