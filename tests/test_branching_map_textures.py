@@ -64,3 +64,33 @@ def test_marks_and_double_coast_kept(size, seed):
     lab, n = ndi.label(brown & (ndi.distance_transform_edt(ndi.distance_transform_edt(out_land) != 1) > 10)
                        & (dist > 10))
     assert n == 0, n
+
+
+def test_flat_region_crossed_by_unextracted_lines_is_not_marked():
+    # a flat country crossed by river lines the structure does not hold was taken as marked (its lines'
+    # pixels counted as marks) and quilted with ghost lines; a region with real dots stays marked
+    import cv2
+
+    from branchnb.branching.drawing import _region_textures
+
+    h, w = 200, 240
+    cream, green, dots = (np.array(c, np.float32) for c in ([0.94, 0.9, 0.77], [0.8, 0.9, 0.72], [0.75, 0.45, 0.3]))
+    lay = np.zeros((h, w), np.int32)
+    lay[:, w // 2:] = 1
+    img = np.where(lay[..., None] == 0, cream, green).astype(np.float32)
+    for y in range(30, 190, 40):
+        cv2.polylines(img, [np.array([[135, y], [180, y + 15], [230, y - 5]], np.int32)], False,
+                      (0.0, 0.0, 0.0), 2, cv2.LINE_AA)
+    s = Structure([Branch(np.c_[np.full(40, 60.0), np.linspace(20, 180, 40)], np.full(40, 1.5))],
+                  image_shape=(h, w))
+    pm = SkeletonMap(s, 1.0).pixel_map((h, w))
+    cols = np.stack([cream, green])
+    assert 1 not in _region_textures(img, lay, cols, pm, np.zeros(3, np.float32), 1.0, 0)
+    rng = np.random.default_rng(0)
+    ys, xs = rng.integers(20, 180, 150), rng.integers(w // 2 + 20, w - 20, 150)
+    img[ys, xs] = dots
+    tex = _region_textures(img, lay, cols, pm, np.zeros(3, np.float32), 1.0, 0)
+    assert 1 in tex
+    far = ndi.binary_erosion(lay == 1, iterations=12)
+    # no line ink copied into the region's texture away from the lines' own places
+    assert np.mean(np.linalg.norm(tex[1][far], axis=-1) < 0.35) < 0.05
