@@ -84,6 +84,12 @@ class DrawingStyle:
         blunt ends or stubs). None: the structure's radii as they are.
     tip_radius : float
         See ``taper``.
+    coast_profile : (distances, colours) or None
+        The example's colour across its drawn coast by signed distance to
+        the branch region's edge (:func:`~branchnb.branching.drawn_profiles.coast_profile`);
+        when set, :func:`draw_in_style` paints it along the output's edge
+        instead of one line of ``boundary_colour`` (a double coast stays
+        double). None: the single line.
     """
 
     region_colours: np.ndarray
@@ -98,6 +104,7 @@ class DrawingStyle:
     two_tone: bool = False
     taper: float | None = None
     tip_radius: float = 0.0
+    coast_profile: tuple | None = None
 
 
 def _median_colour(img: np.ndarray, mask: np.ndarray, fallback) -> np.ndarray:
@@ -171,6 +178,7 @@ def drawing_style(image: np.ndarray, structure: Structure, layout: np.ndarray, p
     inside = lay == branch_region
     b_col, b_width = _boundary_line(img, inside, lay, k, pm, mean_r, off_region, unlike_region, line, cover,
                                     cols, tol)
+    direct = b_col is not None
     if b_col is None:
         # Beyond the paper: the branch region by colour may be one relief level of the land (a small
         # terrain map whose white lowlands have the colour of the white outside, and whose rivers lie
@@ -213,8 +221,22 @@ def drawing_style(image: np.ndarray, structure: Structure, layout: np.ndarray, p
             body = np.median([d_out[_pixel(q, w, h)] for q in b.points])
             ends.append(d_out[iy, ix] if d_out[iy, ix] <= 0.5 * body else np.inf)
         tip_reach = _boundary_reach(ends, lim, share=0.5)
-    textures = _region_textures(img, lay, cols, pm, line, b_width if b_col is not None else 0.0,
-                                branch_region)
+    profile = None
+    rest = lay[~inside]
+    outer = int(np.bincount(rest, minlength=k).argmax()) if rest.size else branch_region
+    shore = ~inside & ndi.binary_dilation(inside)
+    if direct and shore.any() and np.mean(lay[shore] == outer) >= 0.9:
+        # (only where the branch region meets one other region, the sea, along its coast: against
+        # relief levels with no line between them, or a coast read along the drawn domain, the
+        # profile across the region's edge is no coast's)
+        from .drawn_profiles import coast_profile
+
+        profile = coast_profile(img, inside, pm, 3 * max(mean_r, 1.0) + 6, cols[branch_region], cols[outer])
+    # (a texture is read away from every line the coast profile draws)
+    band = b_width if b_col is not None else 0.0
+    if profile is not None:
+        band = max(band, float(np.max(np.abs(profile[0]))))
+    textures = _region_textures(img, lay, cols, pm, line, band, branch_region, b_col)
     # a binary line mask: every pixel is the ground colour or the line colour
     two_tone = bool(k == 1 and b_col is None and not textures
                     and np.all(np.minimum(np.abs(img - cols[0]).max(-1), np.abs(img - line).max(-1)) <= 1.5 / 255))
@@ -227,7 +249,7 @@ def drawing_style(image: np.ndarray, structure: Structure, layout: np.ndarray, p
         taper, tip_r = example_taper(structure, lay.shape)
     return DrawingStyle(cols.astype(np.float32), branch_region, line.astype(np.float32), scale,
                         None if b_col is None else b_col.astype(np.float32), b_width, reach, tip_reach,
-                        textures or None, two_tone, taper, tip_r)
+                        textures or None, two_tone, taper, tip_r, profile)
 
 
 def _boundary_line(img, inside, lay, k, pm, mean_r, off_region, unlike_region, line, cover, cols, tol):
@@ -274,13 +296,16 @@ def _boundary_line(img, inside, lay, k, pm, mean_r, off_region, unlike_region, l
 
 
 #: A region is textured when more than ``_TEXTURED_SHARE`` of its pixels away from the lines differ
-#: from its median colour by more than ``_TEXTURED_DEV`` (flat fills and their anti-aliasing stay flat).
+#: from its median colour by more than ``_TEXTURED_DEV`` (flat fills and their anti-aliasing stay flat),
+#: or more than ``_MARKED_SHARE`` of those away from its edge too (marks printed on it: wave dashes,
+#: tree glyphs, stipple; an edge's anti-aliasing is no mark; a sea sparsely hatched with 1 px dashes has 1 %).
 _TEXTURED_DEV = 0.06
 _TEXTURED_SHARE = 0.15
+_MARKED_SHARE = 0.004
 
 
 def _region_textures(img: np.ndarray, lay: np.ndarray, cols: np.ndarray, pm: PixelMap, line: np.ndarray,
-                     boundary_width: float, branch_region: int) -> dict:
+                     boundary_width: float, branch_region: int, boundary_colour=None) -> dict:
     """The example's pixels of every region that is not one flat colour, without its lines or boundary.
 
     Beyond the paper (which paints photographs with fragments): a drawn map whose land shows
@@ -288,6 +313,10 @@ def _region_textures(img: np.ndarray, lay: np.ndarray, cols: np.ndarray, pm: Pix
     the branches run through about as densely as through the branch region (>= 0.2x: relief
     levels of the land, not the sea the rivers end at) form one group with it and share its
     texture, so the output's land shows the example's relief.
+
+    Pixels of the coast's colour (``boundary_colour``, within 0.1) at the frame
+    are no texture (a coast drawn along the frame, where the land
+    meets it, was copied as brown bars and specks into the output's land).
     """
     out = {}
     k = len(cols)
@@ -303,7 +332,12 @@ def _region_textures(img: np.ndarray, lay: np.ndarray, cols: np.ndarray, pm: Pix
     d = np.asarray(line, np.float32) - c0
     dd = float(d @ d)
     ink = np.zeros(lay.shape, bool)
+    ground_ink = np.zeros(k, bool)
     if dd > 0.01:
+        # a region whose own colour lies in that cone (a teal sea between a parchment land and blue
+        # rivers) would be all ink: there the cone tells nothing and the region's marks stay
+        tc = np.clip(((cols - c0) @ d) / dd, 0.0, 1.0)
+        ground_ink = (tc > 0.25) & (np.linalg.norm(cols - c0 - tc[:, None] * d, axis=-1) < 0.35 * tc * np.sqrt(dd))
         t = np.clip(((img - c0) @ d) / dd, 0.0, 1.0)
         perp = np.linalg.norm(img - c0 - t[..., None] * d, axis=-1)
         ink = (t > 0.25) & (perp < 0.35 * t * np.sqrt(dd))
@@ -313,16 +347,45 @@ def _region_textures(img: np.ndarray, lay: np.ndarray, cols: np.ndarray, pm: Pix
         m = reg & far
         if np.count_nonzero(m) < 50:
             continue
-        dev = np.linalg.norm(img[m] - cols[g[0] if len(g) == 1 else branch_region], axis=-1)
-        if np.mean(dev > _TEXTURED_DEV) <= _TEXTURED_SHARE:
-            continue
+        ground = cols[g[0] if len(g) == 1 else branch_region]
+        dev = np.linalg.norm(img[m] - ground, axis=-1)
         # away from the region's edge (a drawn boundary and its anti-aliasing) and from any ink
         inner = ndi.binary_erosion(reg, iterations=int(np.ceil(boundary_width)) + 2, border_value=1)
-        keep = (pm.dist > pm.radius + 2) & inner & ~ndi.binary_dilation(ink, iterations=1)
+        ink_g = ink if len(g) > 1 or not ground_ink[g[0]] else np.zeros_like(ink)
+        sparse = np.mean(dev > _TEXTURED_DEV) <= _TEXTURED_SHARE
+        if sparse:
+            # (ink of lines the structure does not hold, and its anti-aliasing, is no mark: a flat
+            # country crossed by unextracted river ends was taken as marked and quilted with ghost lines)
+            mi = m & inner & ndi.binary_erosion(reg, iterations=3, border_value=0) \
+                & ~ndi.binary_dilation(ink_g, iterations=2)
+            if np.count_nonzero(mi) < 200 or \
+                    np.mean(np.linalg.norm(img[mi] - ground, axis=-1) > _TEXTURED_DEV) <= _MARKED_SHARE:
+                continue
+        if boundary_colour is not None:
+            coast_ink = np.linalg.norm(img - np.asarray(boundary_colour, np.float32), axis=-1) < 0.1
+            rim = np.zeros(lay.shape, bool)
+            e = int(np.ceil(boundary_width)) + 3
+            rim[:e] = rim[-e:] = True
+            rim[:, :e] = rim[:, -e:] = True
+            ink_g = ink_g | (coast_ink & rim & (np.linalg.norm(img - ground, axis=-1) > 0.1))
+        keep = (pm.dist > pm.radius + 2) & inner & ~ndi.binary_dilation(ink_g, iterations=1)
         if np.count_nonzero(keep) < 50:
             continue
-        _d, (iy, ix) = ndi.distance_transform_edt(~keep, return_indices=True)
-        tex = img[iy, ix].astype(np.float32)
+        from .drawn_profiles import quilt_fill
+
+        # beyond the example's region: blocks copied whole from it (a nearest-pixel fill smeared marks).
+        # Only for one region's texture: a group's (relief levels, two countries the rivers cross) keeps
+        # the example's pixels where they are, since blocks moved the levels and the countries' border
+        # about (the Czech relief drawn white with streaks, a green country's specks in the other).
+        # Marks steer the blocks only where they are sparse: on relief (greys over most of the region)
+        # every block's rim crosses one, and the few unmarked blocks drew the land white.
+        tex = None
+        if len(g) == 1:
+            tex = quilt_fill(img.astype(np.float32), keep,
+                             marks=(np.linalg.norm(img - ground, axis=-1) > _TEXTURED_DEV) if sparse else None)
+        if tex is None:
+            _d, (iy, ix) = ndi.distance_transform_edt(~keep, return_indices=True)
+            tex = img[iy, ix].astype(np.float32)
         tex = _keep_border_ink(img, tex, reg, ink, pm)
         for i in g:
             out[i] = tex
@@ -518,6 +581,12 @@ def draw_in_style(style: DrawingStyle, structure: Structure, labels: np.ndarray,
     every branch with the line colour at ``width_scale * 2 r`` (at least one
     pixel, so no branch breaks into dots).
 
+    With ``style.coast_profile`` the coast is the example's colour profile
+    across its coast painted along the output's region edge (a double coast
+    stays double); a textured or marked region's pixels beyond the example's
+    region are blocks of it copied whole (beyond the paper, issue 23;
+    :mod:`~branchnb.branching.drawn_profiles`).
+
     For a mask (``style.taper`` or ``style.tip_radius`` set) the radii are
     first bounded by what the example shows (beyond the paper, issue 23;
     :func:`~branchnb.branching.drawn_taper.tapered_radii`): each branch stays
@@ -569,7 +638,13 @@ def draw_in_style(style: DrawingStyle, structure: Structure, labels: np.ndarray,
         np.multiply(img, 1 - cov[..., None], out=img)
         img[...] += cov[..., None] * np.asarray(colour, np.float32)
 
-    if style.boundary_colour is not None:
+    if style.boundary_colour is not None and style.coast_profile is not None:
+        from .drawn_profiles import paint_coast
+
+        out_lab = lab[~inside]
+        outer = int(np.bincount(np.clip(out_lab, 0, len(cols) - 1)).argmax()) if out_lab.size else style.branch_region
+        img[...] = paint_coast(img, inside, style.coast_profile, cols[style.branch_region], cols[outer])
+    elif style.boundary_colour is not None:
         img[...] = draw_boundary(img, inside, style.boundary_colour, style.boundary_width)
     if not lines:
         return np.clip(img, 0.0, 1.0)

@@ -140,6 +140,7 @@ def _draw_flat(ex, example_structure, target_structure, layout, labels_t, target
     if labels_t is None:
         labels_t = _domain_labels(layout, pm_s, target_domain) if target_domain is not None else \
             np.full((H, W), style.branch_region, np.int32)
+    labels_t = _without_specks(labels_t, style.branch_region, target_structure)
     report(0.5, "drawing")
     if glow is not None:
         from .skeleton_map import SkeletonMap
@@ -154,6 +155,34 @@ def _draw_flat(ex, example_structure, target_structure, layout, labels_t, target
                                 z.copy(), [], 0.0, target_structure, None, 0,
                                 {"total": time.perf_counter() - t_start}, p,
                                 example_labels=labels_ex, labels=labels_t)
+
+
+def _without_specks(labels: np.ndarray, inner: int, structure, max_area: int = 400) -> np.ndarray:
+    """``labels`` with pieces of the ``inner`` region under ``max_area`` pixels that hold no branch
+    vertex given to the region around them (beyond the paper, issue 23: a domain's stray speck at the
+    frame or off the coast, drawn with the example's coast around it, made a brown-outlined speck)."""
+    lab = np.asarray(labels)
+    pieces, n = ndi.label(lab == inner)
+    if n < 2:
+        return lab
+    area = np.bincount(pieces.ravel(), minlength=n + 1)
+    held = np.zeros(n + 1, bool)
+    h, w = lab.shape
+    for b in structure.branches:
+        ix = np.clip(np.rint(b.points[:, 0]).astype(int), 0, w - 1)
+        iy = np.clip(np.rint(b.points[:, 1]).astype(int), 0, h - 1)
+        held[pieces[iy, ix]] = True
+    drop = (area < max_area) & ~held
+    drop[0] = False
+    if not drop.any():
+        return lab
+    out = lab.copy()
+    # each dropped piece takes the label most of its rim has
+    for i in np.flatnonzero(drop):
+        piece = pieces == i
+        rim = ndi.binary_dilation(piece, iterations=1) & ~piece
+        out[piece] = np.bincount(lab[rim]).argmax() if rim.any() else out[piece]
+    return out
 
 
 def _matte_colour(image: np.ndarray) -> np.ndarray | None:
