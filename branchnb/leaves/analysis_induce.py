@@ -290,6 +290,7 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
     residuals = [[im if isinstance(im, np.ndarray) and im.dtype == np.float32 and im.shape == r.shape
                   and np.array_equal(im, r) else r for im, r in zip(images, rgb)]]
     taken = [np.zeros_like(b) for b in blades]
+    kept = None
     out = []
     names = list(user_masks)
     steps = max(len(names) * (2 * n + 1), 1)
@@ -304,17 +305,26 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
             raise ValueError(f"user_masks[{name!r}] is empty on the training leaf's blade")
         # Each residual's CIELAB (moved onto the training leaf's statistics),
         # converted once for the colour term, the snapping and the ridge extension.
-        labs = thread_map(lambda e, residual=residual, lab0=lab0: _matched_lab(
-            residual[e], stats, e, t, params, lab=lab0[e] if residual[e] is rgb[e] else None), range(n))
+        scattered = scattered_layer(user, blades[t])
+        # Scattered marks are read where the layer above was removed by its mask alone (see Notes).
+        seen = kept if scattered and kept is not None else residual
+        labs = thread_map(lambda e, seen=seen, lab0=lab0: _matched_lab(
+            seen[e], stats, e, t, params, lab=lab0[e] if seen[e] is rgb[e] else None), range(n))
         lab0 = [None] * n  # later layers' residuals differ: not held any longer
         q = thread_map(lambda lab: _quantise_lab(lab, space), labs)
         cdf = layer_cdfs(q[t], user, space.bins)
         report(step / steps, f"layer {name}: snapping to each exemplar's ridges")  # "cancel" stops here too
         # An ink layer the user drew with the leaf's outline (a sketch's ink) keeps it on every exemplar.
         outline_in_layer = _outline_in_layer(blades[t], user)
-        snapped, own, ridge_px, centred, zones, rims = _snapped(
-            residual, blades, t, user, registrations, stats, tolerance, params, labs=labs,
-            rgb=None if outline_in_layer else rgb)
+        if scattered:
+            # Marks at chance places (blotches cut by veins, hole rims, lichen dots) have no main
+            # structure to carry: snapped as thin, each exemplar got ridges at the training
+            # marks' registered places (see Notes of :func:`induce`).
+            snapped, own, ridge_px, centred, zones, rims = None, [None] * n, [None] * n, None, [None] * n, [None] * n
+        else:
+            snapped, own, ridge_px, centred, zones, rims = _snapped(
+                residual, blades, t, user, registrations, stats, tolerance, params, labs=labs,
+                rgb=None if outline_in_layer else rgb)
         # The training leaf's colour model where the exemplar's layer has its
         # colour (it is exact there; re-estimated from the found pixels it lost
         # 0.03-0.13 IoU on same-coloured veins), else the exemplar's own.
@@ -361,6 +371,7 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
                 tried[n_px] = colour
         masks = []
         new_residual = []
+        kept = []
         steps_kept = _MaskSteps(user, blades, t, snapped, centred, own, own_px, ridge_px, zones, rims,
                                 outline_in_layer, inked_outline)
         contrast = [None] * n
@@ -384,6 +395,9 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
             taken[e] = taken[e] | m
             # In turn: the patch quilting of wide parts draws from one generator, exemplar after exemplar.
             new_residual.append(remove_layer(residual[e], blades[e], gone, rng=rng))
+            grown = gone & ~m
+            kept.append(np.where(grown[..., None], residual[e], new_residual[-1]).astype(new_residual[-1].dtype)
+                        if grown.any() else new_residual[-1])
         residual = new_residual
         residuals.append(list(residual))
         # Kept small (:mod:`branchnb.leaves.stored_maps`): S_e on the blades' boxes, ||x, c|| and D
