@@ -47,7 +47,7 @@ TIE_LEVEL = 0.5
 #: The largest piece of a scattered layer spans (bounding-box diagonal) less than this share of the leaf
 #: size ``sqrt(blade area)``. Spots, blotches, hole rims and lichen dots of the procedural families:
 #: at most 0.2; the training vein layers of every leaves test: at least 0.5 (a vein system is one piece).
-SCATTER_SPAN = 0.3
+SCATTER_SPAN = 0.4
 
 
 def scattered_layer(user, blade, *, span: float = SCATTER_SPAN, min_marks: int = 2) -> bool:
