@@ -349,11 +349,14 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         if snapped is not None:
             own_px = _under_induced(q, blades, t, user, cdf, own_px, ridge_px, dist, lengths, tolerance, params,
                                     registrations, space, candidates[0])
+        # A scattered layer's windows leave out what the layers above took: their removal filled it
+        # from around, and beside a vein that was the marks' own colour (hole rims on a midrib).
+        counted = [b if e == t or not scattered else b & ~taken[e] for e, b in enumerate(blades)]
         tried = {}
         for n_px in candidates:
             report(step / steps, f"layer {name}: colour and space terms ({n_px} px window)")
             colour = thread_map(lambda e, n_px=n_px, q=q, own_px=own_px, cdf=cdf: colour_similarity(
-                q[e], blades[e], _own_cdf(q[e], own_px[e], cdf, space.bins), n_px,
+                q[e], counted[e], _own_cdf(q[e], own_px[e], cdf, space.bins), n_px,
                 weights=space.weights if params.lab_units else None), range(n))
             lam, overlap, combined, delta, tr_iou = _combine(colour, dist, lengths, tolerance, params, blades,
                                                              registrations, t, user)
@@ -363,7 +366,8 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         step += n
         tr_iou, n_px, colour, lam, overlap, combined, delta = best
         if params.match_colours and snapped is None:
-            redo = _own_colours(colour, combined, delta, residual, blades, t, user, cdf, own_px, space, n_px, params)
+            redo = _own_colours(colour, combined, delta, seen, blades, t, user, cdf, own_px, space, n_px, params,
+                                counted=counted)
             if redo is not colour:
                 colour = redo
                 lam, overlap, combined, delta, tr_iou = _combine(colour, dist, lengths, tolerance, params, blades,
@@ -422,7 +426,8 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
 OWN_COLOURS_MAX = 3.0
 
 
-def _own_colours(colour, combined, delta, residual, blades, t, user, cdf, own_px, space, n_px, params):
+def _own_colours(colour, combined, delta, residual, blades, t, user, cdf, own_px, space, n_px, params, *,
+                 counted=None):
     """``colour`` with each exemplar's colour term the better of its matched and its own colours.
 
     Beyond the paper (issue 22): matching each blade's colour statistics
@@ -447,7 +452,8 @@ def _own_colours(colour, combined, delta, residual, blades, t, user, cdf, own_px
         if e == t:
             continue
         q_own = _quantise_lab(_lab(residual[e]), space)
-        own = colour_similarity(q_own, blades[e], _own_cdf(q_own, own_px[e], cdf, space.bins), n_px, weights=w)
+        own = colour_similarity(q_own, blades[e] if counted is None else counted[e],
+                                _own_cdf(q_own, own_px[e], cdf, space.bins), n_px, weights=w)
         better = np.minimum(colour[e], own)
         # D = lambda F + S: lowering S lowers D by as much (F grows as S falls, but lambda ~ 0 here)
         got = float(((combined[e] < delta) & blades[e]).sum())
