@@ -46,7 +46,8 @@ TIE_LEVEL = 0.5
 
 #: The largest piece of a scattered layer spans (bounding-box diagonal) less than this share of the leaf
 #: size ``sqrt(blade area)``. Spots, blotches, hole rims and lichen dots of the procedural families:
-#: at most 0.2; the training vein layers of every leaves test: at least 0.5 (a vein system is one piece).
+#: at most 0.2, two blotches that touch 0.31 (0.3 took them for a structure: 0.00 IoU on two of four
+#: exemplars); the training vein layers of every leaves test: at least 0.5 (a vein system is one piece).
 SCATTER_SPAN = 0.4
 
 
