@@ -2,6 +2,9 @@
 
 Each entry: (kind, layer, exemplar) -> (shape, zlib-compressed np.packbits of the mask, base64). Made by
 analyze() on leaf_family(3, size, kind, rng=seed) with simulate_scribbles as in the test.
+The spots entries of exemplars 1-2 were made again at leaves73 (issue 22: scattered marks are not
+snapped and are read where the veins were removed by their mask alone); their IoU with the true
+spots rose (lobed 0.78 / 0.57 -> 0.81 / 0.68, elliptic 0.52 / 0.77 -> 0.68 / 0.86), the veins' are unchanged.
 """
 
 
@@ -48,12 +51,12 @@ REFERENCE = {
         'Hfb5JLT6EDrho6b8V3pC/k4oZmoavBKKak+Evqgrj0Fncs+Uqrzox6ZSrUtf6kssmA=='
     ),
     ('lobed', 'spots', 1): ((170, 172),
-        'eNpjYBgFo2AUDEVwAJsgDzZBRqxKZbAJMmNVake8A+yxKi0Yja5RMApGwWAFLlgLU6wl3DtsgnxYTf3fgEWQ/wdWpdjs4v+HVekH'
-        'LILs/7EprcemlP8BNqU12ATZsXmAwQBrzTGaiEbBKBiRAACzdBIB'
+        'eNpjYBgFo2AUDEVwAJsgDzZBRqxKZbAJMmNVake8A+yxKi3A6qzROBwFo2AUDALggrUwxVrCvSPeVPYGLIL8P7Ap/Y/NLv5/2JTW'
+        'f8BmFXalD7ApxSbIUIO1OsDmAQaD0dJ8FIyCUQADAOciEF0='
     ),
     ('lobed', 'spots', 2): ((170, 172),
-        'eNpjYBgFo2AUjIJRMApGKniGTZD/DzbR/wewCDL/wGpAAzbRGmyC7NhMZbDDJsj4AJuoHFZ/PRiN2kEJeLBG7AGiI5b7AdGmjoJR'
-        'MApGAW0BADbtCn0='
+        'eNpjYBgFo2AUjIJRMApGKlDBJsj+B5vo/wNYBJl/YFPK34BNtAarXdhMZbDDJsiIVSnPaCQOIaCDTZAJa8TyYRPkeDCaBkbBKBgF'
+        'gwQAAOEDCK8='
     ),
     ('elliptic', 'veins', 0): ((204, 198),
         'eNrtl79uFDEQxsf2ancLK7t0lnLKLX0kjGi2OJ32UcyfB7iSLk6QoEEKJXQ8iqMgQcUTUNxBj47uihT40ubnIlIKkG5Kz92M5/s+'
@@ -96,13 +99,12 @@ REFERENCE = {
         'T00CNi8cYDB8gs3eZwxsh7E5lv0GgwQ/NsfKA7EdNpP+AQlsjmUHeo0Rq0k/SIw5BhuSU03DaI4aBaNgFIyCUTAKRgF9AAAkiRxI'
     ),
     ('elliptic', 'spots', 1): ((204, 198),
-        'eNrtlLENwyAQRbm4cIPiBSyzBhNkp0hR4tEYxSNYSgoKK4QBeJFIm/8KCr64u39wOCeEEOLPGVYQAp24U6QdBKMUXu0XX0mwP9GB'
-        'hYRIwtZZ0omEmYRME0apC9geC0U6QHhACnvTrHa2I/Z+BmTayJu/gXClUp9U06sul1ZfayRrOQn1Is6tNAWsDxlelCUNsxBCCCF+'
-        '4gOtKBvV'
+        'eNrtlK0NgDAQRlt+ggMJgoQ1QOFYgzUQJDAao1QwAAkD8OP7HGD4nqjoS3PXa++MEUII8XMsiQr2gxFEuKma4htCEiWJmoR7KqeC'
+        'BPVFtoCYQMQHHMgpRE9dP7z9QlTWnC7dwn5E86ahEDt9mvVaOo9Irpys74NUszGpL8z9EA1NU6f+FEIIIcRznAIWExc='
     ),
     ('elliptic', 'spots', 2): ((204, 198),
-        'eNrtlDEOwjAQBM+4QDSQgiISSOYhCP8kX6ClSvw0Or7hjpaSAuFc+l16pJ3yJsnZd6uYCSGEEELYsSfi9sL18KxYrPMdi82XtNi9'
-        'iZhIPXyIiJWJ/9kEW0T0RQQ02oMXUwGi+Rsj2lCrFtHMUyuW0AizP51Ri6u3GNBplxCc0eqWEJzQ9VgIIomTrX4MkToWkMC67AsR'
-        'D/alCxPshlt22E7/JSGEEELMCkYgLQ=='
+        'eNrtlC0OwlAQhPdRgQNERRNIyjEQhN6k56hoQo/BcXBcow6LrCCBPcB8Bkcyn9zJzr79yYswxhhjjInDDYThpePlOWth3d0h4w0l'
+        'tlAirvRacirz/2+iod5ySkWNdp/BVmV8MmNUG8rVVWpSbZfLUMJpSXFSVhnsVe10ijMdwRHa031PPwxxRQIdSIGjjZqcHiRcqMQC'
+        'woacdv6XjDHGGPMFthkcAQ=='
     ),
 }
