@@ -380,7 +380,7 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         tried = {}
         for n_px in candidates:
             report(step / steps, f"layer {name}: colour and space terms ({n_px} px window)")
-            colour = thread_map(lambda e, n_px=n_px, q=q, own_px=own_px, cdf=cdf: colour_similarity(
+            colour = thread_map(lambda e, n_px=n_px, q=q, own_px=own_px, cdf=cdf, counted=counted: colour_similarity(
                 q[e], counted[e], _own_cdf(q[e], own_px[e], cdf, space.bins), n_px,
                 weights=space.weights if params.lab_units else None), range(n))
             lam, overlap, combined, delta, tr_iou = _combine(colour, dist, lengths, tolerance, params, blades,
