@@ -275,28 +275,9 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
 
     Notes
     -----
-    Beyond the paper (issue 22): a layer of marks at chance places
-    (:func:`~branchnb.leaves.induction_scatter.scattered_layer`: blotches,
-    hole rims, lichen dots, rust spots) is read differently from the layers
-    with a main structure:
-
-    * it is never snapped as a thin layer: blotches cut by veins and hole
-      rims are thin, and snapping drew ridges at the training marks'
-      registered places on every exemplar;
-    * its colour is read on the residual in which the layer above was
-      removed by its induced mask alone: that layer's ridge extension
-      (:func:`_ridge_extension`, which takes faint vein ends for the
-      background) also took pale dots and the pale inside of hole rims;
-    * on the exemplars its colour windows leave out the pixels the layers
-      above took: their removal filled them from around, beside a vein
-      with the marks' own colour.
-
-    Measured on procedural families of 4-6 toothed leaves with veins and
-    marks at random places (160-600 px), worst exemplar's IoU before ->
-    after: blotches 240 px 0.00 -> 0.88, 450 px 0.71 -> 0.91; hole rims
-    300 px 0.00 -> 0.53, 500 px 0.00 -> 0.74; lichen dots 240 px 0.10 ->
-    0.69; rust spots 160 px 0.63 -> 0.76. The layers above (veins) are
-    induced exactly as before.
+    Beyond the paper (issue 22): a layer of marks at chance places is never snapped, is read where
+    the layer above was removed by its mask alone, and its windows leave out what the layers above
+    took (:mod:`~branchnb.leaves.induction_scatter`).
     """
     report = _progress(progress, 0.0, 1.0)
     rng = as_rng(rng)

@@ -29,6 +29,26 @@ each blade). Measured on procedural families with one mark at the same
 place on every leaf (4-6 leaves, 200-400 px): spots ``lambda`` 0.006-0.17
 -> 0, worst exemplar's spot IoU 0.11-0.32 -> 0.76-0.91; vein masks of
 the procedural lobed / trilobed / elliptic families unchanged.
+
+How a scattered layer is induced (leaves73, :func:`~branchnb.leaves.analysis_induce.induce`):
+
+* it is never snapped as a thin layer: blotches cut by veins and hole
+  rims are thin, and snapping drew ridges at the training marks'
+  registered places on every exemplar;
+* its colour is read on the residual in which the layer above was
+  removed by its induced mask alone: that layer's ridge extension (which
+  takes faint vein ends for the background) also took pale dots and the
+  pale inside of hole rims;
+* on the exemplars its colour windows leave out the pixels the layers
+  above took: their removal filled them from around, beside a vein with
+  the marks' own colour.
+
+Measured on procedural families of 4-6 toothed leaves with veins and
+marks at random places (160-600 px), worst exemplar's IoU before ->
+after: blotches 240 px 0.00 -> 0.88, 450 px 0.71 -> 0.91; hole rims
+300 px 0.00 -> 0.53, 500 px 0.00 -> 0.74; lichen dots 240 px 0.10 ->
+0.69, 400 px 0.12 -> 0.91; rust spots 160 px 0.63 -> 0.76. The layers
+above (veins) are induced exactly as before.
 """
 
 from __future__ import annotations
