@@ -405,9 +405,9 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
             taken[e] = taken[e] | m
             # In turn: the patch quilting of wide parts draws from one generator, exemplar after exemplar.
             new_residual.append(remove_layer(residual[e], blades[e], gone, rng=rng))
-            grown = gone & ~m
-            kept.append(np.where(grown[..., None], residual[e], new_residual[-1]).astype(new_residual[-1].dtype)
-                        if grown.any() else new_residual[-1])
+            # Outside the mask as it was: the removal also grew the mask (by its ridge extension and its
+            # anti-aliasing rim), eating the marks that touch a vein.
+            kept.append(np.where(m[..., None], new_residual[-1], residual[e]).astype(new_residual[-1].dtype))
         residual = new_residual
         residuals.append(list(residual))
         # Kept small (:mod:`branchnb.leaves.stored_maps`): S_e on the blades' boxes, ||x, c|| and D
