@@ -275,8 +275,8 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
 
     Notes
     -----
-    Beyond the paper (issue 22): a layer of marks at chance places is never snapped, is read where
-    the layer above was removed by its mask alone, and its windows leave out what the layers above
+    Beyond the paper (issue 22): a layer of marks at chance places is never snapped, is read on the
+    residual the layer above left outside its mask, and its windows leave out what the layers above
     took (:mod:`~branchnb.leaves.induction_scatter`).
     """
     report = _progress(progress, 0.0, 1.0)
@@ -312,7 +312,7 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         # Each residual's CIELAB (moved onto the training leaf's statistics),
         # converted once for the colour term, the snapping and the ridge extension.
         scattered = scattered_layer(user, blades[t])
-        # Scattered marks are read where the layer above was removed by its mask alone (see Notes).
+        # Scattered marks are read on the residual the layer above left outside its mask (see Notes).
         seen = kept if scattered and kept is not None else residual
         labs = thread_map(lambda e, seen=seen, lab0=lab0: _matched_lab(
             seen[e], stats, e, t, params, lab=lab0[e] if seen[e] is rgb[e] else None), range(n))
