@@ -407,7 +407,8 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
             new_residual.append(remove_layer(residual[e], blades[e], gone, rng=rng))
             # Outside the mask as it was: the removal also grew the mask (by its ridge extension and its
             # anti-aliasing rim), eating the marks that touch a vein.
-            kept.append(np.where(m[..., None], new_residual[-1], residual[e]).astype(new_residual[-1].dtype))
+            kept.append(new_residual[-1] if e == t else
+                        np.where(m[..., None], new_residual[-1], residual[e]).astype(new_residual[-1].dtype))
         residual = new_residual
         residuals.append(list(residual))
         # Kept small (:mod:`branchnb.leaves.stored_maps`): S_e on the blades' boxes, ||x, c|| and D
