@@ -2,6 +2,9 @@
 
 Each entry: (kind, layer, exemplar) -> (shape, zlib-compressed np.packbits of the mask, base64). Made by
 analyze() on leaf_family(3, size, kind, rng=seed) with simulate_scribbles as in the test.
+The spots entries of exemplars 1-2 were made again at leaves73 (issue 22: scattered marks are not
+snapped and are read where the veins were removed by their mask alone); their IoU with the true
+spots rose (lobed 0.78 / 0.57 -> 0.89 / 0.82, elliptic 0.52 / 0.77 -> 0.83 / 0.93), the veins' are unchanged.
 """
 
 
@@ -48,12 +51,12 @@ REFERENCE = {
         'Hfb5JLT6EDrho6b8V3pC/k4oZmoavBKKak+Evqgrj0Fncs+Uqrzox6ZSrUtf6kssmA=='
     ),
     ('lobed', 'spots', 1): ((170, 172),
-        'eNpjYBgFo2AUDEVwAJsgDzZBRqxKZbAJMmNVake8A+yxKi0Yja5RMApGwWAFLlgLU6wl3DtsgnxYTf3fgEWQ/wdWpdjs4v+HVekH'
-        'LILs/7EprcemlP8BNqU12ATZsXmAwQBrzTGaiEbBKBiRAACzdBIB'
+        'eNpjYBgFo2AUDEXQgE2QB5sg4wFsojLYBJmxKrXD6gCsSuWwKi3AatdoHI6CUTAKBgE4grUwfYCtMP1HvKnsWAV/YBP9j600Zcdq'
+        'V/0DYpUy1WMzVR2bfoYarEU01krGYDS9jIJRMApgAACjZBAQ'
     ),
     ('lobed', 'spots', 2): ((170, 172),
-        'eNpjYBgFo2AUjIJRMApGKniGTZD/DzbR/wewCDL/wGpAAzbRGmyC7NhMZbDDJsj4AJuoHFZ/PRiN2kEJeLBG7AGiI5b7AdGmjoJR'
-        'MApGAW0BADbtCn0='
+        'eNpjYBgFo2AUjIJRMAqGFWDBKupAtFL2P9hE6w9gEWT+gU0pfwM20RqsdmEzlcEGmyDjgdGoHWjgQKH+F9gE2bBGrB82QZ4H2ERd'
+        'RiNmFIyCUUB/AAAdbgnB'
     ),
     ('elliptic', 'veins', 0): ((204, 198),
         'eNrtl79uFDEQxsf2ancLK7t0lnLKLX0kjGi2OJ32UcyfB7iSLk6QoEEKJXQ8iqMgQcUTUNxBj47uihT40ubnIlIKkG5Kz92M5/s+'
@@ -96,13 +99,12 @@ REFERENCE = {
         'T00CNi8cYDB8gs3eZwxsh7E5lv0GgwQ/NsfKA7EdNpP+AQlsjmUHeo0Rq0k/SIw5BhuSU03DaI4aBaNgFIyCUTAKRgF9AAAkiRxI'
     ),
     ('elliptic', 'spots', 1): ((204, 198),
-        'eNrtlLENwyAQRbm4cIPiBSyzBhNkp0hR4tEYxSNYSgoKK4QBeJFIm/8KCr64u39wOCeEEOLPGVYQAp24U6QdBKMUXu0XX0mwP9GB'
-        'hYRIwtZZ0omEmYRME0apC9geC0U6QHhACnvTrHa2I/Z+BmTayJu/gXClUp9U06sul1ZfayRrOQn1Is6tNAWsDxlelCUNsxBCCCF+'
-        '4gOtKBvV'
+        'eNpjYBgFo2AUjIJRMCSBAi6JIzjEmXBpYMQlIYdDnK0Gh4TwD9p7bxSMArzJWQaXhAEuiQPUcpMELokHOMT5cVld34BD4j8OceYP'
+        'OCTkcbnJgtYxhMvT7AdIdCpLBQ4JS1xWFOMq6p4AiTQcbmLcgc1NwIhgw+bgeiCWxOX1hNH8OQpGwSgYBaNgFIwC6gEA+pMRxg=='
     ),
     ('elliptic', 'spots', 2): ((204, 198),
-        'eNrtlDEOwjAQBM+4QDSQgiISSOYhCP8kX6ClSvw0Or7hjpaSAuFc+l16pJ3yJsnZd6uYCSGEEELYsSfi9sL18KxYrPMdi82XtNi9'
-        'iZhIPXyIiJWJ/9kEW0T0RQQ02oMXUwGi+Rsj2lCrFtHMUyuW0AizP51Ri6u3GNBplxCc0eqWEJzQ9VgIIomTrX4MkToWkMC67AsR'
-        'D/alCxPshlt22E7/JSGEEELMCkYgLQ=='
+        'eNrtlD0OQFAQhN+j0PnpFBKXUKhwEudQSDiG4+hcQ6dVKhT2ADOtRMyXbLOTzbzMbp5zQgghhPgPAROKhQjDjvv+IELUrljIbmKR'
+        'nESY2GsHJuzfX1HOBEvJo2hDa5YwPpsY0YCtzqOkktYKWeSXWcxo2dbskXdjVaOzYUfgz1fu/GL25Ghd1RFhY9YNs2DeMXtsqg9L'
+        'CCGEEA8uRRpj'
     ),
 }

@@ -272,6 +272,12 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
     layers : list of LayerInduction
     residuals : list of list of (H, W, 3) ndarray
     space : ColourSpace
+
+    Notes
+    -----
+    Beyond the paper (issue 22): a layer of marks at chance places is never snapped, is read on the
+    residual the layer above left outside its mask, and its windows leave out what the layers above
+    took (:mod:`~branchnb.leaves.induction_scatter`).
     """
     report = _progress(progress, 0.0, 1.0)
     rng = as_rng(rng)
@@ -290,6 +296,7 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
     residuals = [[im if isinstance(im, np.ndarray) and im.dtype == np.float32 and im.shape == r.shape
                   and np.array_equal(im, r) else r for im, r in zip(images, rgb)]]
     taken = [np.zeros_like(b) for b in blades]
+    kept = None
     out = []
     names = list(user_masks)
     steps = max(len(names) * (2 * n + 1), 1)
@@ -304,17 +311,26 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
             raise ValueError(f"user_masks[{name!r}] is empty on the training leaf's blade")
         # Each residual's CIELAB (moved onto the training leaf's statistics),
         # converted once for the colour term, the snapping and the ridge extension.
-        labs = thread_map(lambda e, residual=residual, lab0=lab0: _matched_lab(
-            residual[e], stats, e, t, params, lab=lab0[e] if residual[e] is rgb[e] else None), range(n))
+        scattered = scattered_layer(user, blades[t])
+        # Scattered marks are read on the residual the layer above left outside its mask (see Notes).
+        seen = kept if scattered and kept is not None else residual
+        labs = thread_map(lambda e, seen=seen, lab0=lab0: _matched_lab(
+            seen[e], stats, e, t, params, lab=lab0[e] if seen[e] is rgb[e] else None), range(n))
         lab0 = [None] * n  # later layers' residuals differ: not held any longer
         q = thread_map(lambda lab: _quantise_lab(lab, space), labs)
         cdf = layer_cdfs(q[t], user, space.bins)
         report(step / steps, f"layer {name}: snapping to each exemplar's ridges")  # "cancel" stops here too
         # An ink layer the user drew with the leaf's outline (a sketch's ink) keeps it on every exemplar.
         outline_in_layer = _outline_in_layer(blades[t], user)
-        snapped, own, ridge_px, centred, zones, rims = _snapped(
-            residual, blades, t, user, registrations, stats, tolerance, params, labs=labs,
-            rgb=None if outline_in_layer else rgb)
+        if scattered:
+            # Marks at chance places (blotches cut by veins, hole rims, lichen dots) have no main
+            # structure to carry: snapped as thin, each exemplar got ridges at the training
+            # marks' registered places (see Notes of :func:`induce`).
+            snapped, own, ridge_px, centred, zones, rims = None, [None] * n, [None] * n, None, [None] * n, [None] * n
+        else:
+            snapped, own, ridge_px, centred, zones, rims = _snapped(
+                residual, blades, t, user, registrations, stats, tolerance, params, labs=labs,
+                rgb=None if outline_in_layer else rgb)
         # The training leaf's colour model where the exemplar's layer has its
         # colour (it is exact there; re-estimated from the found pixels it lost
         # 0.03-0.13 IoU on same-coloured veins), else the exemplar's own.
@@ -339,11 +355,14 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         if snapped is not None:
             own_px = _under_induced(q, blades, t, user, cdf, own_px, ridge_px, dist, lengths, tolerance, params,
                                     registrations, space, candidates[0])
+        # A scattered layer's windows leave out what the layers above took: their removal filled it
+        # from around, and beside a vein that was the marks' own colour (hole rims on a midrib).
+        counted = [b if e == t or not scattered else b & ~taken[e] for e, b in enumerate(blades)]
         tried = {}
         for n_px in candidates:
             report(step / steps, f"layer {name}: colour and space terms ({n_px} px window)")
-            colour = thread_map(lambda e, n_px=n_px, q=q, own_px=own_px, cdf=cdf: colour_similarity(
-                q[e], blades[e], _own_cdf(q[e], own_px[e], cdf, space.bins), n_px,
+            colour = thread_map(lambda e, n_px=n_px, q=q, own_px=own_px, cdf=cdf, counted=counted: colour_similarity(
+                q[e], counted[e], _own_cdf(q[e], own_px[e], cdf, space.bins), n_px,
                 weights=space.weights if params.lab_units else None), range(n))
             lam, overlap, combined, delta, tr_iou = _combine(colour, dist, lengths, tolerance, params, blades,
                                                              registrations, t, user)
@@ -353,7 +372,8 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         step += n
         tr_iou, n_px, colour, lam, overlap, combined, delta = best
         if params.match_colours and snapped is None:
-            redo = _own_colours(colour, combined, delta, residual, blades, t, user, cdf, own_px, space, n_px, params)
+            redo = _own_colours(colour, combined, delta, seen, blades, t, user, cdf, own_px, space, n_px, params,
+                                counted=counted)
             if redo is not colour:
                 colour = redo
                 lam, overlap, combined, delta, tr_iou = _combine(colour, dist, lengths, tolerance, params, blades,
@@ -361,6 +381,7 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
                 tried[n_px] = colour
         masks = []
         new_residual = []
+        kept = []
         steps_kept = _MaskSteps(user, blades, t, snapped, centred, own, own_px, ridge_px, zones, rims,
                                 outline_in_layer, inked_outline)
         contrast = [None] * n
@@ -384,6 +405,10 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
             taken[e] = taken[e] | m
             # In turn: the patch quilting of wide parts draws from one generator, exemplar after exemplar.
             new_residual.append(remove_layer(residual[e], blades[e], gone, rng=rng))
+            # Outside the mask as it was: the removal also grew the mask (by its ridge extension and its
+            # anti-aliasing rim), eating the marks that touch a vein.
+            kept.append(new_residual[-1] if e == t else
+                        np.where(m[..., None], new_residual[-1], residual[e]).astype(new_residual[-1].dtype))
         residual = new_residual
         residuals.append(list(residual))
         # Kept small (:mod:`branchnb.leaves.stored_maps`): S_e on the blades' boxes, ||x, c|| and D
@@ -408,7 +433,8 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
 OWN_COLOURS_MAX = 3.0
 
 
-def _own_colours(colour, combined, delta, residual, blades, t, user, cdf, own_px, space, n_px, params):
+def _own_colours(colour, combined, delta, residual, blades, t, user, cdf, own_px, space, n_px, params, *,
+                 counted=None):
     """``colour`` with each exemplar's colour term the better of its matched and its own colours.
 
     Beyond the paper (issue 22): matching each blade's colour statistics
@@ -433,7 +459,8 @@ def _own_colours(colour, combined, delta, residual, blades, t, user, cdf, own_px
         if e == t:
             continue
         q_own = _quantise_lab(_lab(residual[e]), space)
-        own = colour_similarity(q_own, blades[e], _own_cdf(q_own, own_px[e], cdf, space.bins), n_px, weights=w)
+        own = colour_similarity(q_own, blades[e] if counted is None else counted[e],
+                                _own_cdf(q_own, own_px[e], cdf, space.bins), n_px, weights=w)
         better = np.minimum(colour[e], own)
         # D = lambda F + S: lowering S lowers D by as much (F grows as S falls, but lambda ~ 0 here)
         got = float(((combined[e] < delta) & blades[e]).sum())

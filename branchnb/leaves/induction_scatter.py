@@ -29,6 +29,28 @@ each blade). Measured on procedural families with one mark at the same
 place on every leaf (4-6 leaves, 200-400 px): spots ``lambda`` 0.006-0.17
 -> 0, worst exemplar's spot IoU 0.11-0.32 -> 0.76-0.91; vein masks of
 the procedural lobed / trilobed / elliptic families unchanged.
+
+How a scattered layer is induced (leaves73, :func:`~branchnb.leaves.analysis_induce.induce`):
+
+* it is never snapped as a thin layer: blotches cut by veins and hole
+  rims are thin, and snapping drew ridges at the training marks'
+  registered places on every exemplar;
+* its colour is read on the residual the layer above left outside its
+  induced mask: that layer's removal grows the mask (its anti-aliasing
+  rim, and the ridge extension that takes faint vein ends for the
+  background), which ate pale dots, the pale inside of hole rims and the
+  marks' pixels touching a vein;
+* on the exemplars its colour windows leave out the pixels the layers
+  above took: their removal filled them from around, beside a vein with
+  the marks' own colour.
+
+Measured on procedural families of 4-6 toothed leaves with veins and
+marks at random places (160-600 px), worst exemplar's IoU before ->
+after: blotches 240 px 0.00 -> 0.99, 450 px 0.71 -> 1.00; hole rims
+300 px 0.00 -> 1.00, 500 px 0.00 -> 0.79; lichen dots 240 px 0.10 ->
+0.69 (the vein layer took a third of one leaf's dots), 400 px 0.12 ->
+0.91; rust spots 160 px 0.63 -> 0.99, 600 px 0.14 -> 1.00. The layers
+above (veins) are induced exactly as before.
 """
 
 from __future__ import annotations
@@ -46,8 +68,9 @@ TIE_LEVEL = 0.5
 
 #: The largest piece of a scattered layer spans (bounding-box diagonal) less than this share of the leaf
 #: size ``sqrt(blade area)``. Spots, blotches, hole rims and lichen dots of the procedural families:
-#: at most 0.2; the training vein layers of every leaves test: at least 0.5 (a vein system is one piece).
-SCATTER_SPAN = 0.3
+#: at most 0.2, two blotches that touch 0.31 (0.3 took them for a structure: 0.00 IoU on two of four
+#: exemplars); the training vein layers of every leaves test: at least 0.5 (a vein system is one piece).
+SCATTER_SPAN = 0.4
 
 
 def scattered_layer(user, blade, *, span: float = SCATTER_SPAN, min_marks: int = 2) -> bool:
