@@ -111,7 +111,24 @@ def paint_coast(img: np.ndarray, inside: np.ndarray, profile, ground_in, ground_
     """``img`` with ``profile`` (:func:`coast_profile`) painted across the edge of ``inside`` (not the frame).
 
     Only the profile's ink is painted, as a blend by how far each bin's colour
-    lies from its ground (the region texture shows through between the lines)."""
+    lies from its ground (the region texture shows through between the lines).
+
+    Parameters
+    ----------
+    img : (H, W, C) float ndarray
+        The drawn output so far.
+    inside : (H, W) bool array_like
+        The land (the coast is its edge).
+    profile : (distances, colours)
+        From :func:`coast_profile`.
+    ground_in, ground_out : (C,) array_like
+        The land's and the sea's own colours.
+
+    Returns
+    -------
+    (H, W, C) ndarray
+        A copy of ``img`` with the coast painted (``img`` itself when there is no edge).
+    """
     d, c = profile
     m = np.asarray(inside, bool)
     if not m.any() or m.all():
@@ -145,7 +162,25 @@ def quilt_fill(tex: np.ndarray, keep: np.ndarray, block: int = 16, seed: int = 0
     ``keep`` (smaller blocks when none fits, down to 4 px). None when not even
     a 4 px block fits. ``marks``: pixels of marks on the ground (dashes,
     glyphs); source blocks whose rim crosses one are not used while others
-    exist (a glyph cut by a block's edge left half a tree or a dark speck)."""
+    exist (a glyph cut by a block's edge left half a tree or a dark speck).
+
+    Parameters
+    ----------
+    tex : (H, W, C) ndarray
+        The region's texture.
+    keep : (H, W) bool ndarray
+        Where ``tex`` is the region's own.
+    block : int, default 16
+        Largest block side (pixels).
+    seed : int, default 0
+        Seed of the block choice.
+    marks : (H, W) bool ndarray, optional
+        Pixels of marks on the ground.
+
+    Returns
+    -------
+    (H, W, C) ndarray or None
+    """
     h, w = keep.shape
     rng = np.random.default_rng(seed)
     out = tex.copy()

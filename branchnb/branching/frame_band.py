@@ -253,13 +253,37 @@ _INWARD = np.array([[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0]])
 
 
 def bearing_window(shape) -> float:
-    """The chord length (pixels) :func:`entry_turn_limit` and :func:`bearing_keep` measure turns over."""
+    """The chord length (pixels) :func:`entry_turn_limit` and :func:`bearing_keep` measure turns over.
+
+    Parameters
+    ----------
+    shape : (H, W)
+        The frame.
+
+    Returns
+    -------
+    float
+    """
     return max(BEARING_WINDOW, PARALLEL_SHARE * float(max(shape[:2])))
 
 
 def entry_side(point, radius: float, shape) -> int:
     """The frame side (0 left, 1 top, 2 right, 3 bottom) a root starting at ``point`` with ``radius``
-    enters by, or -1 when it starts inside."""
+    enters by, or -1 when it starts inside.
+
+    Parameters
+    ----------
+    point : (x, y)
+        The root's first point.
+    radius : float
+        Its radius there (pixels).
+    shape : (H, W)
+        The frame.
+
+    Returns
+    -------
+    int
+    """
     d, s = _frame_sides(point, shape)
     return int(s[0]) if d[0] <= ENTRY_PX + 2.0 * float(radius) else -1
 
@@ -283,6 +307,16 @@ def entry_turn_limit(example: Structure) -> float:
     none enters (or no ``image_shape``).
 
     Beyond the paper (issue 23, branching87): see :func:`bearing_keep`.
+
+    Parameters
+    ----------
+    example : Structure
+        The example's branches, with ``image_shape``.
+
+    Returns
+    -------
+    float
+        Degrees.
     """
     if example.image_shape is None:
         return float("inf")
@@ -315,6 +349,23 @@ def bearing_keep(points, new_pts: np.ndarray, side: int, limit: float, shape) ->
     furcates on less length and children crowd: those whose first Markov step the density refused are
     dropped with the unborn heads (``_BranchState.bearing_cut``, ``_Filling._drop_heads``; branching94: on
     tests/test_branching_unborn.py's crack, seed 0, 3 bare heads -> 0; _frame_hug_check's 45 cases 42 -> 44).
+
+    Parameters
+    ----------
+    points : (m, 2) array_like
+        The root's points so far.
+    new_pts : (n, 2) ndarray
+        The points it would add.
+    side : int
+        Its entry side (:func:`entry_side`; -1 keeps everything).
+    limit : float
+        Largest turn (degrees, :func:`entry_turn_limit`).
+    shape : (H, W)
+        The frame.
+
+    Returns
+    -------
+    (n,) bool ndarray
 
     Examples
     --------

@@ -161,6 +161,13 @@ def place_bands(bands: list[FrameBand], shape) -> np.ndarray:
     stretched to the output's side and scaled to the image across it (the example's shape and share
     of the image; the example's own region when the sizes match).
 
+    Parameters
+    ----------
+    bands : list of FrameBand
+        From :func:`frame_bands`.
+    shape : (H, W)
+        The output's size.
+
     Returns
     -------
     (H, W) int32 ndarray

@@ -196,7 +196,17 @@ class GlowModel:
     def region_textures(self, layout: np.ndarray) -> dict:
         """``{label: (H, W, C) image}``: the ground of every region of ``layout``, each pixel outside the
         region taking the colour of the nearest pixel inside (for :class:`~.drawing.DrawingStyle`: a
-        night sky keeps its gradient, drawn in one flat colour it lost it)."""
+        night sky keeps its gradient, drawn in one flat colour it lost it).
+
+        Parameters
+        ----------
+        layout : (H, W) int ndarray
+            Region labels.
+
+        Returns
+        -------
+        dict
+        """
         from scipy import ndimage as ndi
 
         lay = np.asarray(layout)
@@ -207,7 +217,17 @@ class GlowModel:
         return out
 
     def light(self, pm: PixelMap) -> np.ndarray:
-        """The colour the lines of ``pm`` add to their ground, (H, W, C) float32 (0 beyond ``reach``)."""
+        """The colour the lines of ``pm`` add to their ground, (H, W, C) float32 (0 beyond ``reach``).
+
+        Parameters
+        ----------
+        pm : PixelMap
+            The output structure's pixel map.
+
+        Returns
+        -------
+        (H, W, C) float32 ndarray
+        """
         h, w = pm.dist.shape
         c = self.excess.shape[2]
         out = np.zeros((h, w, c), np.float32)
@@ -235,7 +255,19 @@ class GlowModel:
         return out
 
     def paint(self, ground: np.ndarray, pm: PixelMap) -> np.ndarray:
-        """``ground`` (the output without lines) with the lines of ``pm`` and their glow added, in [0, 1]."""
+        """``ground`` (the output without lines) with the lines of ``pm`` and their glow added, in [0, 1].
+
+        Parameters
+        ----------
+        ground : (H, W, C) array_like
+            The output without lines.
+        pm : PixelMap
+            The output structure's pixel map.
+
+        Returns
+        -------
+        (H, W, C) float32 ndarray
+        """
         g = np.asarray(ground, np.float32)
         return np.clip(g + self.light(pm)[..., :g.shape[2]], 0.0, 1.0).astype(np.float32)
 
