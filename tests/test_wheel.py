@@ -8,6 +8,8 @@ alone, the test builds and installs the wheel itself (once).
 
 from __future__ import annotations
 
+import ast
+import fnmatch
 import json
 import os
 import shutil
@@ -107,10 +109,50 @@ def test_the_wheel_is_small_and_holds_only_the_package(wheel_venv):
     # pip's compiled bytecode (__pycache__) is not part of what the wheel ships
     size = sum((records[0].parent.parent / f).stat().st_size for f in files
                if not f.startswith("..") and "__pycache__" not in f and (records[0].parent.parent / f).is_file())
-    # the sample data is about 4 MB of the installed size, the code (with its docs) most of the rest
-    # (10 MB until session 25; its new modules -- glow, patchwork, drawn profiles, frame regions, notch splits,
-    # scattered marks -- took the code past it: the ~0.7 MB of measuring scripts are the next thing to move out)
-    assert size < 10.5e6, f"installed package is {size / 1e6:.1f} MB"
+    # the sample data is about 4 MB of the installed size, the code (with its docs) most of the rest; the
+    # checkout-only measuring scripts (about 0.55 MB) stay out (setup.py)
+    assert size < 10e6, f"installed package is {size / 1e6:.1f} MB"
+    assert not any(_is_measuring_script(f) for f in files)
+
+
+def _measuring_patterns() -> tuple[str, ...]:
+    tree = ast.parse((ROOT / "setup.py").read_text())
+    for node in tree.body:
+        if isinstance(node, ast.Assign) and any(getattr(t, "id", "") == "MEASURING_SCRIPTS" for t in node.targets):
+            return tuple(ast.literal_eval(node.value))
+    raise AssertionError("setup.py defines no MEASURING_SCRIPTS")
+
+
+def _is_measuring_script(path: str) -> bool:
+    name = path.rsplit("/", 1)[-1]
+    if not name.endswith(".py"):
+        name += ".py"
+    return any(fnmatch.fnmatch(name, pattern) for pattern in _measuring_patterns())
+
+
+def _imported_modules(path: Path) -> set[str]:
+    """Dotted names a module imports (``from a import b`` gives both ``a`` and ``a.b``)."""
+    package = ".".join(path.relative_to(ROOT).with_suffix("").parts[:-1])
+    names = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Import):
+            names.update(alias.name for alias in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            base = package.split(".")[:len(package.split(".")) - node.level + 1] if node.level else []
+            module = ".".join(base + ([node.module] if node.module else []))
+            names.add(module)
+            names.update(f"{module}.{alias.name}" for alias in node.names)
+    return names
+
+
+def test_no_shipped_module_imports_a_measuring_script():
+    # the wheel leaves the measuring scripts out, so a shipped module that imported one would fail there
+    shipped = [p for p in (ROOT / "branchnb").rglob("*.py") if not _is_measuring_script(p.name)]
+    offenders = {str(p.relative_to(ROOT)): sorted(m for m in _imported_modules(p)
+                                                  if _is_measuring_script(m.split(".")[-1])
+                                                  and (ROOT / (m.replace(".", "/") + ".py")).is_file())
+                 for p in shipped}
+    assert {k: v for k, v in offenders.items() if v} == {}
 
 
 def test_a_checkout_reads_the_visible_data_folder():

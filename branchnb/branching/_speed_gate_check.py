@@ -1,10 +1,10 @@
 """Bit-identity gate of structure synthesis for speed work (issue 23, branching40).
 
-``python -m branchnb.branching._speed_gate OUT.pkl [KINDS] [SIZES] [N_SEEDS] [CACHE]`` synthesizes, with
+``python -m branchnb.branching._speed_gate_check OUT.pkl [KINDS] [SIZES] [N_SEEDS] [CACHE]`` synthesizes, with
 the defaults, every kind (default: mud, river, retina, lightning, lineart = drawn cracks, czech = a map,
 delta) at every size (default 250, 512, 1000) for seeds 0 .. N_SEEDS - 1 (default 3): 63 structures. It
 prints each one's SHA-1 (points, radii, parents of every branch) and CPU seconds and pickles them to
-OUT.pkl. ``python -m branchnb.branching._speed_gate --compare A.pkl B.pkl`` says whether two runs
+OUT.pkl. ``python -m branchnb.branching._speed_gate_check --compare A.pkl B.pkl`` says whether two runs
 (e.g. main and a branch, with ``PYTHONPATH`` pointing at each) are equal and lists the CPU times side by
 side. The fitted examples are read from CACHE (see :func:`._seed_check.fitted_example`), so both runs
 synthesize from the very same models.
