@@ -93,7 +93,9 @@ def ridge_response(image, params: ExtractionParams | None = None) -> tuple[np.nd
     p = check_params(params if params is not None else ExtractionParams())
     if p.sigma_max < p.sigma_min:
         raise ValueError(f"params.sigma_max ({p.sigma_max}) must be >= sigma_min ({p.sigma_min})")
-    gray = gray_for_extraction(image).astype(np.float64)
+    # float32: scikit-image's Hessians follow the input's precision; float64 took 1.5-1.8x as long on
+    # 1-2 MP photos for responses within 3e-7 of each other (same structures on the samples)
+    gray = gray_for_extraction(image).astype(np.float32)
     if p.scale < 1:
         gray = rescale(gray, p.scale, anti_aliasing=True)
     pol = _polarity(gray, p.polarity, p.sigma_max)
