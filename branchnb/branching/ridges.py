@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import ndimage as ndi
 
+from ..core.distance import edt
 from ..core.image import as_gray, as_rgb
 from ..core.params import check_params
 from ..core.polyline import resample_uniform
@@ -61,13 +62,13 @@ def _outside_field_of_view(gray: np.ndarray, margin: float, sigma_max: float) ->
     sizes = np.bincount(lab.ravel())
     sizes[0] = 0
     thick = np.zeros(len(sizes))
-    dt = ndi.distance_transform_edt(dark)
+    dt = edt(dark)
     np.maximum.at(thick, lab.ravel(), dt.ravel())
     big = (sizes >= 0.01 * gray.size) & (thick > 4 * sigma_max)
     big[0] = False
     out = big[lab]
     if out.any() and margin > 0:
-        out = ndi.distance_transform_edt(~out) <= margin
+        out = edt(~out) <= margin
     return out
 
 
