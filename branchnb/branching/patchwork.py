@@ -42,7 +42,15 @@ def _smoothed(image) -> np.ndarray:
 
 
 def _kmeans(x: np.ndarray, k: int, iters: int = 20) -> tuple[np.ndarray, np.ndarray]:
-    """Deterministic k-means of the rows of ``x`` (farthest-point start): ``(centres, labels)``."""
+    """Deterministic k-means of the rows of ``x`` (farthest-point start): ``(centres, labels)``.
+
+    scikit-learn's Lloyd iterations from a farthest-point start (the first row,
+    then each time the row farthest from the centres so far): one run, no
+    random restarts, so the palette is the same for the same ground. Fewer
+    than ``k`` centres when the rows hold fewer distinct points.
+    """
+    from sklearn.cluster import KMeans
+
     centres = [x[0]]
     d = np.linalg.norm(x - x[0], axis=1)
     for _ in range(1, k):
@@ -52,14 +60,10 @@ def _kmeans(x: np.ndarray, k: int, iters: int = 20) -> tuple[np.ndarray, np.ndar
         centres.append(x[j])
         d = np.minimum(d, np.linalg.norm(x - x[j], axis=1))
     c = np.array(centres)
-    lab = np.zeros(len(x), int)
-    for _ in range(iters):
-        lab = np.argmin(((x[:, None, :] - c[None]) ** 2).sum(2), axis=1)
-        new = np.array([x[lab == i].mean(0) if np.any(lab == i) else c[i] for i in range(len(c))])
-        if np.allclose(new, c, atol=1e-5):
-            break
-        c = new
-    return c, lab
+    if len(c) == 1:
+        return c, np.zeros(len(x), int)
+    km = KMeans(n_clusters=len(c), init=c, n_init=1, max_iter=iters, tol=1e-8, algorithm="lloyd").fit(x)
+    return km.cluster_centers_, km.labels_.astype(int)
 
 
 def ground_palette(image, background, k: int = 8, max_samples: int = 20000) -> tuple[np.ndarray, np.ndarray]:
