@@ -244,7 +244,10 @@ def _complete(out, ex: np.ndarray, regions: ExampleRegions, p, flat: bool, use_p
     (``PATCHWORK_PATCH``; from ``p.patch_size`` up to 3 x it): patches much smaller than a field are
     one flat colour each, and the borders between them were the seams' staircases along the patch
     grid rather than the example's own borders (aerial fields at 1024 px: gradient-histogram
-    distance to the example's ground 0.039 -> 0.026).
+    distance to the example's ground 0.039 -> 0.026). Without a relit ground the gaps are then laid
+    with whole fields of the example (:func:`~branchnb.branching.patchwork.paste_fields`: square
+    patches met along a grid of straight seams, a third of the ground's colour edges axis-aligned);
+    the quilting fills only what they leave.
 
     Returns ``(fill, n_inpainted)``.
     """
