@@ -90,6 +90,11 @@ class DrawingStyle:
         when set, :func:`draw_in_style` paints it along the output's edge
         instead of one line of ``boundary_colour`` (a double coast stays
         double). None: the single line.
+    coast_dashes : (period, dash) or None
+        A dotted or dashed coast's rhythm along its arc length, in pixels
+        (:func:`~branchnb.branching.drawn_dashes.coast_dashes`); when set,
+        :func:`draw_in_style` draws the coast with it in ``boundary_colour``
+        and ``boundary_width``. None: a continuous coast.
     """
 
     region_colours: np.ndarray
@@ -105,6 +110,7 @@ class DrawingStyle:
     taper: float | None = None
     tip_radius: float = 0.0
     coast_profile: tuple | None = None
+    coast_dashes: tuple | None = None
 
 
 def _median_colour(img: np.ndarray, mask: np.ndarray, fallback) -> np.ndarray:
@@ -222,9 +228,19 @@ def drawing_style(image: np.ndarray, structure: Structure, layout: np.ndarray, p
             ends.append(d_out[iy, ix] if d_out[iy, ix] <= 0.5 * body else np.inf)
         tip_reach = _boundary_reach(ends, lim, share=0.5)
     profile = None
+    dashes = None
     rest = lay[~inside]
     outer = int(np.bincount(rest, minlength=k).argmax()) if rest.size else branch_region
     shore = ~inside & ndi.binary_dilation(inside)
+    if (direct or b_col is None) and shore.any() and np.mean(lay[shore] == outer) >= 0.9:
+        # a dotted or dashed coast (beyond the paper, issue 23): under half the edge bears ink, or
+        # the median profile across it is the ground's; drawn with the example's rhythm instead
+        from .drawn_dashes import dashed_coast
+
+        found = dashed_coast(img, inside, pm, 3 * max(mean_r, 1.0) + 6, off_region, cols, tol)
+        if found is not None:
+            b_col, b_width, dashes = found
+            direct = False
     if direct and shore.any() and np.mean(lay[shore] == outer) >= 0.9:
         # (only where the branch region meets one other region, the sea, along its coast: against
         # relief levels with no line between them, or a coast read along the drawn domain, the
@@ -249,7 +265,7 @@ def drawing_style(image: np.ndarray, structure: Structure, layout: np.ndarray, p
         taper, tip_r = example_taper(structure, lay.shape)
     return DrawingStyle(cols.astype(np.float32), branch_region, line.astype(np.float32), scale,
                         None if b_col is None else b_col.astype(np.float32), b_width, reach, tip_reach,
-                        textures or None, two_tone, taper, tip_r, profile)
+                        textures or None, two_tone, taper, tip_r, profile, dashes)
 
 
 def _boundary_line(img, inside, lay, k, pm, mean_r, off_region, unlike_region, line, cover, cols, tol):
@@ -638,7 +654,11 @@ def draw_in_style(style: DrawingStyle, structure: Structure, labels: np.ndarray,
         np.multiply(img, 1 - cov[..., None], out=img)
         img[...] += cov[..., None] * np.asarray(colour, np.float32)
 
-    if style.boundary_colour is not None and style.coast_profile is not None:
+    if style.boundary_colour is not None and style.coast_dashes is not None:
+        from .drawn_dashes import paint_dashes
+
+        img[...] = paint_dashes(img, inside, style.boundary_colour, style.boundary_width, *style.coast_dashes)
+    elif style.boundary_colour is not None and style.coast_profile is not None:
         from .drawn_profiles import paint_coast
 
         out_lab = lab[~inside]

@@ -180,6 +180,18 @@ def quilt_fill(tex: np.ndarray, keep: np.ndarray, block: int = 16, seed: int = 0
     Returns
     -------
     (H, W, C) ndarray or None
+
+    Notes
+    -----
+    The core's quilting (:func:`branchnb.core.completion.complete_gaps` with
+    ``forbidden = ~keep``, no gradient-domain correction) was tried in its
+    place on hatched seas (wave dashes, 256-1000 px, the region a disk
+    covering 38 % of the texture): 20-60 times slower (45 s against 1.7 s
+    at 1000 px) and it cut more marks (its graph-cut seams run through the
+    dashes: 9-13 % of the marks in the filled part were fragments under a
+    full dash's size, against 3-6 % here and 2-6 % in the example). A flat
+    ground with sparse marks needs no matching: whole blocks whose rim
+    crosses no mark suffice.
     """
     h, w = keep.shape
     rng = np.random.default_rng(seed)

@@ -244,7 +244,10 @@ def _complete(out, ex: np.ndarray, regions: ExampleRegions, p, flat: bool, use_p
     (``PATCHWORK_PATCH``; from ``p.patch_size`` up to 3 x it): patches much smaller than a field are
     one flat colour each, and the borders between them were the seams' staircases along the patch
     grid rather than the example's own borders (aerial fields at 1024 px: gradient-histogram
-    distance to the example's ground 0.039 -> 0.026).
+    distance to the example's ground 0.039 -> 0.026). Without a relit ground the gaps are then laid
+    with whole fields of the example (:func:`~branchnb.branching.patchwork.paste_fields`: square
+    patches met along a grid of straight seams, a third of the ground's colour edges axis-aligned);
+    the quilting fills only what they leave.
 
     Returns ``(fill, n_inpainted)``.
     """
@@ -276,11 +279,25 @@ def _complete(out, ex: np.ndarray, regions: ExampleRegions, p, flat: bool, use_p
                   method=p.seams, poisson=use_poisson and not patchwork, anchored=p.anchors,
                   anchor_weight=p.anchor_weight,
                   screen=p.completion_screen if p.anchors else 0.0, rng=rng, progress=sub_progress)
-        if labels_t is None:    # the quicker window search of gap_quilting (issue 23)
+        pasted = None
+        if patchwork > 0 and labels_t is None and relit is None:
+            # whole fields laid one by one: quilting's square patches left a grid of straight seams
+            from .patchwork import paste_fields
+
+            pasted = paste_fields(canvas, covered, ex_c, regions.forbidden, rng=rng)
+        if pasted is not None and covered.all():
+            from branchnb.core.completion import CompletionResult
+
+            comp = CompletionResult(filled=pasted[0], source=pasted[1], seams=np.zeros(covered.shape, bool),
+                                    n_patches=0, seam_cost=0.0, patch_size=size)
+        elif labels_t is None:    # the quicker window search of gap_quilting (issue 23)
             comp = quilt_gaps(canvas, covered, ex_c, regions.forbidden, **kw)
         else:                   # region by region (maps): the core's loop
             comp = complete_gaps(canvas, covered, ex_c, regions.forbidden, regions=labels_t,
                                  example_regions=src_labels, fast=True, **kw)
+        if pasted is not None and pasted[0].any() and comp.filled is not pasted[0]:
+            comp.source[pasted[0]] = pasted[1][pasted[0]]
+            comp.filled = comp.filled | pasted[0]
         if relit is not None:
             canvas += offset_t      # back to the output's own light (fragments: exactly as before)
             out.canvas = canvas

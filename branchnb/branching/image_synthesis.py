@@ -424,6 +424,14 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
                                 cached["vec_cache"], labels_t, src_labels, use_poisson, rng, report,
                                 frag_share, light)
     timings["fragments"] = time.perf_counter() - t0
+    if cached.get("patchwork", 0.0) and p.completion and not flat:
+        # a patchwork ground (beyond the paper, issue 23): a fragment's disk carried its own field's
+        # colour along the branch, a band of it beside the river over whatever fields the output lays
+        # there (aerial fields: a chain of dark beads along the river); the fragments keep their
+        # branch and its bank only, the fields beside it are completed with the ground around
+        from .patchwork import bank_only
+
+        bank_only(out, pm_t)
     fill, n_inpainted = _complete(out, ex, regions, p, flat, use_poisson, pm_s, pm_t, labels_t, src_labels,
                                   rng, report, frag_share, timings,
                                   domains=None if boundary is None else (boundary.domain, target_domain),
