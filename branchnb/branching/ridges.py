@@ -366,6 +366,8 @@ def thin_line_colour(image, *, sigma_max: float = 4.0, min_contrast: float = 0.1
 
 # share of a colour's pixels on the outline of the outside regions from which it is the coast's ink
 COAST_INK_SHARE = 0.25
+# least count of a coloured line colour, relative to what the outline test leaves of the coast's ink
+COAST_RIVAL_SHARE = 0.25
 
 
 def _chroma_ratio(rgb: np.ndarray, bg: np.ndarray, colour: np.ndarray, line_like: np.ndarray, tol: float) -> float:
@@ -464,21 +466,22 @@ def _line_colour_and_width(image, *, sigma_max: float = 4.0, min_contrast: float
     found.sort(key=lambda f: -f[0])
     trees = [f for f in found if f[2] is not None]
     n, best, width, border_share = found[0]
-    if width is not None:
-        # a coloured branching shape among flat areas: brightness ridges would trace the areas' outlines
-        return best.astype(np.float32), width
     min_ratio = 0.5 if drawn else 1.0
     if border_share >= COAST_INK_SHARE:
         # the commonest colour is the coast's ink (much of it on the outline of the outside): what the
         # outline test leaves of it is still coast (the thin second line of a double coast, a coast
-        # beside a narrow strip of sea, an isthmus's two shores) or glyphs, and brightness ridges
-        # would trace those as rivers (precision 0.75-0.81 on fantasy maps). Coloured thin lines of
-        # their own, off the outline and as common as that rest, are the structure (beyond the paper)
+        # beside a narrow strip of sea, an isthmus's two shores) or glyphs' strokes, and tracing it
+        # (by brightness, or as a drawn shape) took those for rivers (precision 0.75-0.81 on fantasy
+        # maps, 0 where the glyphs' trunks made it a "tree"). Coloured thin lines of their own, off the
+        # outline, long and not rare beside that rest, are the structure (beyond the paper)
         for n2, c2, w2, share2 in found[1:]:
-            if w2 is None and share2 < 0.1 and n2 >= 0.5 * n and \
+            if w2 is None and share2 < 0.1 and n2 >= COAST_RIVAL_SHARE * n and \
                     _chroma_ratio(rgb, bg, c2, line_like, tol) >= min_ratio and \
                     _elongated_share(np.abs(rgb - c2).max(-1) <= tol, 4 * sigma_max) >= 0.5:
                 return c2.astype(np.float32), None
+    if width is not None:
+        # a coloured branching shape among flat areas: brightness ridges would trace the areas' outlines
+        return best.astype(np.float32), width
     if _chroma_ratio(rgb, bg, best, line_like, tol) >= min_ratio:
         return best.astype(np.float32), None
     # the commonest line colour is grey or dark (a crown's rim): a coloured tree shape still wins
