@@ -330,6 +330,16 @@ def thin_line_colour(image, *, sigma_max: float = 4.0, min_contrast: float = 0.1
     :func:`extract_structure` traces it by its medial axis when it is at
     least 3 pixels wide.
 
+    Beyond the paper (issue 23), the coast's ink does not win by its count
+    alone: when at least a quarter of the most frequent colour's pixels lay
+    on the outline, what the outline test leaves of it is most likely coast
+    too (a double coast's offshore line, a coast beside a narrow strip of
+    sea, an isthmus's two shores) or the strokes of map glyphs. A coloured
+    line colour off the outline (under a tenth of it there), at least a
+    quarter as frequent as that rest, with at least half of its pixels in
+    pieces longer than ``4 sigma_max`` (rivers, not tree glyphs) and passing
+    the hue test above wins instead, before the tree-shape rule.
+
     Parameters
     ----------
     image : (H, W) or (H, W, C) array_like
