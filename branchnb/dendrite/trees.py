@@ -606,9 +606,11 @@ def render_layers(trees, *, background=None, near=(0.2, 0.13, 0.07), far=(0.72, 
     Parameters
     ----------
     trees : sequence of GrownTree or Dendrite
-        Back (far) to front (near); all of one shape.
+        Back (far) to front (near); all of one shape (one tree alone is drawn
+        in the ``far`` colour, as a list of one is).
     background : (H, W, 3) array_like, optional
-        Image to draw on; white by default.
+        Image to draw on (RGB, or grey / RGBA converted as
+        :func:`~branchnb.core.image.as_rgb` does); white by default.
     near : RGB triple
         Colour of the last (front) tree.
     far : RGB triple
