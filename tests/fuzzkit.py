@@ -339,6 +339,30 @@ def _ex_params():
     return ExemplarParams(size=128)
 
 
+def _grown_tree():
+    from branchnb.dendrite import TreeParams, grow_tree
+
+    return grow_tree((40, 32), TreeParams(iterations=2, radius=10), rng=0)
+
+
+def _tree_layers():
+    from branchnb.dendrite import TreeParams, grow_layers
+
+    return grow_layers((40, 32), TreeParams(iterations=2, radius=10), layers=2, rng=0)
+
+
+def _pareidolia_params():
+    from branchnb.dendrite import PareidoliaParams
+
+    return PareidoliaParams(n_endpoints=40, iterations=2, lattice_size=0)
+
+
+def _pareidolia():
+    from branchnb.dendrite import pareidolia_tree
+
+    return pareidolia_tree(_img(), _pareidolia_params(), rng=0)
+
+
 def _stylizer():
     from branchnb.dendrite import Stylizer
 
@@ -460,6 +484,8 @@ _EXAMPLES = {
     "pairwise": _pairwise,
     "junctions": _junctions,
     "junction_strokes": _junction_strokes,
+    "grown_tree": _grown_tree, "tree_layers": _tree_layers, "pareidolia_params": _pareidolia_params,
+    "pareidolia": _pareidolia,
     "exemplar": _exemplar,
     "stylizer": _stylizer,
     "stylize_params": _stylize_params,
@@ -582,6 +608,7 @@ ARGS = {
     "dendrite:build_dendrite.endpoints": _v([(3, 20), (20, 21)]),
     "dendrite:PlanResult.path.node": _v(100),
     "dendrite:Lattice.node_index.points": _v([(3, 4), (5, 6)]), "dendrite:Lattice.node_points.nodes": _v([3, 30]),
+    "dendrite:render_layers.trees": _e("tree_layers"), "dendrite:pareidolia_tree.params": _e("pareidolia_params"),
     "dendrite:Rendering.image": _e("image"), "dendrite:Rendering.svg": _v("<svg xmlns='http://www.w3.org/2000/svg'/>"),
     # ---- trees
     "trees:tree_contour.contour": lambda: example("exemplar").contour.contour,
@@ -803,6 +830,7 @@ ARGS = {
 #: Instances whose methods are fuzzed: class name -> example key.
 INSTANCES = {
     "Structure": "structure", "Branch": lambda: example("structure").branches[1], "Dendrite": "dendrite",
+    "GrownTree": "grown_tree", "PareidoliaTree": "pareidolia",
     "Lattice": "lattice", "PlanResult": "plan_result", "Stylizer": "stylizer", "TreeLibrary": "library",
     "Exemplar": "exemplar", "BillboardCloud": "cloud", "Variation": "variation", "Stroke": lambda: example("strokes")[0],
     "StrokePair": "pair", "SourceIndex": "source_index", "Fetched": "fetched", "EditPatches": "edit_patches",

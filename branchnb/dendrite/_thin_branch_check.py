@@ -7,7 +7,9 @@ with the defaults and ``metaphor="lightning"``, the thin objects of
 :mod:`~branchnb.dendrite._thin_check` on a dusk gradient (kinds ``pole``, ``lamp``, ``mast``,
 ``stem``, ``T``, ``L``, the ``wide`` blob as the control) plus ``fork`` (a stem forking in two
 arms, each with a small head) and prints per case: ``t10`` (mean turn, degrees per 10 px, of
-the bolt's branches inside the object, :func:`~branchnb.dendrite._thin_check.thin_turn`),
+the bolt's branches inside the object, :func:`~branchnb.dendrite._thin_check.thin_turn`), ``t1%``
+(the turn of all its paths inside the object per 1.04 % of the diagonal,
+:func:`~branchnb.dendrite._thin_check.bolt_turn`: the same measure at every picture size),
 ``main`` (the main channel's turn per 10 px), ``side`` (side branches at least 2 % of the
 diagonal long leaving the main channel, per 100 px of it), ``tips`` (the dendrite's tips) and
 ``reach`` (share of the object's parts, the lamp's head, the mast's and the T's arm ends, the
@@ -25,8 +27,8 @@ import numpy as np
 from scipy import ndimage
 
 from ._bolt_shape_check import _resample, turning
+from ._thin_check import bolt_turn, thin_turn
 from ._thin_check import case as thin_case
-from ._thin_check import thin_turn
 
 SIZES = (250, 500, 1000)
 KINDS = ("pole", "lamp", "mast", "stem", "fork", "T", "L", "wide")
@@ -142,6 +144,7 @@ def measure(kind: str, n: int, seed: int, outdir: str | None = None) -> dict:
         cv2.imwrite(f"{outdir}/tb_{kind}_{n}_{seed}.png",
                     (np.clip(np.concatenate([img, bolt], 1), 0, 1)[..., ::-1] * 255).astype(np.uint8))
     return {"t10": thin_turn(d, obj) if obj.any() else turning(pts, 10.0),
+            "t1%": bolt_turn(d, obj if obj.any() else np.ones(obj.shape, bool)),
             "main": turning(pts, 10.0), "side": 100.0 * side / max(length, 1e-9),
             "tips": int(len(d.tips)), "reach": reach}
 
@@ -151,7 +154,7 @@ def main(sizes=SIZES, seeds=(0, 1), kinds=KINDS, outdir=None) -> None:
         for kind in (*kinds, "plain"):
             for seed in seeds:
                 m = measure(kind, n, seed, outdir)
-                print(f"{n:5d} {kind:5s} s{seed} t10 {m['t10']:5.1f} main {m['main']:5.1f} "
+                print(f"{n:5d} {kind:5s} s{seed} t10 {m['t10']:5.1f} t1% {m['t1%']:5.1f} main {m['main']:5.1f} "
                       f"side {m['side']:4.2f} tips {m['tips']:3d} reach {m['reach']:.2f}", flush=True)
 
 

@@ -43,10 +43,11 @@ from ..core.random import as_rng
 from ..core.render import draw_polylines
 from ..core.sampling import stipple
 from ..core.svg import polylines_to_svg
+from ..core.validate import Colour, Int, as_point, check_callback, check_shape, checked, real_array
 from .dendrite import Dendrite, _accumulate_up, build_dendrite
 from .lattice import Lattice, node_weights
 from .planner import plan
-from .render import Rendering, svg_document
+from .render import Rendering, _canvas, svg_document
 
 __all__ = [
     "GrownTree",
@@ -59,6 +60,23 @@ __all__ = [
     "render_layers",
     "render_tree",
 ]
+
+#: Largest canvas (H x W) a tree grows on: the lattice, its planner and the brushfire
+#: distances grow with the area (8192 x 8192, the batch jobs' limit, takes minutes and
+#: gigabytes already); larger sizes are refused at once instead of failing deep in numpy.
+MAX_TREE_PIXELS = 8192 * 8192
+#: Most trees :func:`grow_layers` grows (each is a full growth on the canvas).
+MAX_LAYERS = 64
+#: Most endpoints one iteration adds (the parameters' ranges allow 100 x 10 ** 7).
+_MAX_ENDPOINTS = 200_000
+
+
+def _tree_shape(value, name, allow_none):
+    """The canvas ``(H, W)`` of a growth, at least 8 x 8 and at most :data:`MAX_TREE_PIXELS`."""
+    h, w = check_shape(value, name, max_pixels=MAX_TREE_PIXELS)
+    if h < 8 or w < 8:
+        raise ValueError(f"{name} must be at least 8 x 8, got {h} x {w}")
+    return h, w
 
 
 @dataclass
@@ -360,6 +378,7 @@ def _pipe_width(d: Dendrite, tip_width: float, pipe: float) -> np.ndarray:
     return pipe * np.sqrt(np.maximum(_accumulate_up(d.parent, leaf), 1.0) - 1.0)
 
 
+@checked(shape=_tree_shape, start_iteration=Int(1, 8))
 def grow_tree(shape, params: TreeParams | None = None, *, base=None, weights=None, rng=None,
               start_iteration: int = 1) -> GrownTree:
     """Grow a tree in ``params.iterations`` iterations.
@@ -388,10 +407,14 @@ def grow_tree(shape, params: TreeParams | None = None, *, base=None, weights=Non
 
     Raises
     ------
+    TypeError
+        If an argument is of the wrong kind (``weights`` not callable, ``base``
+        neither a point nor a :class:`GrownTree`).
     ValueError
-        If ``shape`` is smaller than 8 x 8, ``base`` lies outside it,
-        ``start_iteration`` does not fit ``base``, or ``weights`` returns
-        another shape.
+        If ``shape`` is smaller than 8 x 8 or larger than
+        :data:`MAX_TREE_PIXELS`, ``base`` lies outside it (or is a tree of
+        another shape), ``start_iteration`` does not fit ``base``, or
+        ``weights`` returns another shape, NaN, inf or negative weights.
 
     Examples
     --------
@@ -401,9 +424,13 @@ def grow_tree(shape, params: TreeParams | None = None, *, base=None, weights=Non
     (True, 2, True)
     """
     p = check_params(params if params is not None else TreeParams())
-    h, w = int(shape[0]), int(shape[1])
-    if h < 8 or w < 8:
-        raise ValueError(f"shape must be at least 8 x 8, got {shape}")
+    h, w = shape
+    weights = check_callback(weights, "weights")
+    if isinstance(base, GrownTree):
+        if tuple(base.dendrite.shape or ()) != (h, w):
+            raise ValueError(f"base is a tree of shape {base.dendrite.shape}, expected {(h, w)}")
+    elif base is not None:
+        base = as_points(as_point(base, "base")[None], name="base", image_shape=(h, w))[0]
     rng = as_rng(rng)
     crown = crown_mask((h, w), p)
     user = p
@@ -419,20 +446,22 @@ def grow_tree(shape, params: TreeParams | None = None, *, base=None, weights=Non
         if start_iteration < 2:
             raise ValueError("continuing a tree needs start_iteration >= 2")
     else:
-        root = np.array([(w - 1) / 2.0, h - 1.0]) if base is None else as_points(
-            np.reshape(np.asarray(base, float), (1, 2)), name="base", image_shape=(h, w))[0]
+        root = np.array([(w - 1) / 2.0, h - 1.0]) if base is None else base
         d = None
         endpoints, metrics, radii = [], [], []
         if start_iteration != 1:
-            raise ValueError("a new tree starts at iteration 1")
+            raise ValueError(f"start_iteration must be 1 for a new tree (base is not a GrownTree), "
+                             f"got {start_iteration}")
 
     for i in range(start_iteration, p.iterations + 1):
         metric, a = iteration_metric(i, p)
-        wts = np.asarray(weights(i, rng), np.float64)
+        wts = real_array(weights(i, rng), f"weights({i})", ndim=2, min=0.0)
         if wts.shape != (h, w):
             raise ValueError(f"weights({i}) returned shape {wts.shape}, expected {(h, w)}")
         lat = Lattice(wts)
-        n_i = round(p.trunk_endpoints * p.endpoint_growth ** (i - 1))
+        # no more endpoints than pixels: the largest counts the fields allow (100 x 10 ** 7)
+        # would only make the rejection sampling run out of memory
+        n_i = min(round(p.trunk_endpoints * p.endpoint_growth ** (i - 1)), h * w, _MAX_ENDPOINTS)
         if i == 1:
             # the trunk: root -> fork point at the bottom of the crown
             fork = np.array([np.clip((w - 1) / 2 + rng.normal(0, p.fork_jitter * w), 0, w - 1),
@@ -487,6 +516,7 @@ def _scaled_lengths(p: TreeParams, shape) -> TreeParams:
                                tip_width=p.tip_width * k)
 
 
+@checked(color=Colour(), smooth=Int(0, 10_000))
 def render_tree(dendrite: Dendrite, *, background=None, color=(0.24, 0.16, 0.09),
                 smooth: int = 4) -> Rendering:
     """Draw a tree: brown branches, smoothed a little (see :func:`render_plain`).
@@ -517,6 +547,7 @@ def render_tree(dendrite: Dendrite, *, background=None, color=(0.24, 0.16, 0.09)
     return render_plain(dendrite, background=background, color=color, smooth=smooth)
 
 
+@checked(shape=_tree_shape, layers=Int(1, MAX_LAYERS))
 def grow_layers(shape, params: TreeParams | None = None, *, layers: int = 3, rng=None,
                 base=None) -> list[GrownTree]:
     """Occlusion: ``layers`` trees sharing one trunk (iteration 1), each grown further
@@ -542,8 +573,11 @@ def grow_layers(shape, params: TreeParams | None = None, *, layers: int = 3, rng
 
     Raises
     ------
+    TypeError
+        If an argument is of the wrong kind.
     ValueError
-        If ``layers < 1``.
+        If ``layers`` is not in ``1..MAX_LAYERS``, ``shape`` is not a canvas
+        :func:`grow_tree` accepts or ``base`` lies outside it.
 
     Examples
     --------
@@ -552,8 +586,8 @@ def grow_layers(shape, params: TreeParams | None = None, *, layers: int = 3, rng
     (2, True)
     """
     p = check_params(params if params is not None else TreeParams())
-    if layers < 1:
-        raise ValueError(f"layers must be >= 1, got {layers}")
+    if isinstance(base, GrownTree):
+        raise TypeError("base must be an (x, y) point (the trunk's base), got a GrownTree")
     rng = as_rng(rng)
     trunk = grow_tree(shape, dataclasses.replace(p, iterations=1, pipe=0.0), base=base, rng=rng)
     out = []
@@ -564,6 +598,7 @@ def grow_layers(shape, params: TreeParams | None = None, *, layers: int = 3, rng
     return out
 
 
+@checked(near=Colour(channels=(3,)), far=Colour(channels=(3,)), smooth=Int(0, 10_000))
 def render_layers(trees, *, background=None, near=(0.2, 0.13, 0.07), far=(0.72, 0.68, 0.62),
                   smooth: int = 4) -> Rendering:
     """Draw trees back to front, from the ``far`` colour to the ``near`` colour.
@@ -571,9 +606,11 @@ def render_layers(trees, *, background=None, near=(0.2, 0.13, 0.07), far=(0.72, 
     Parameters
     ----------
     trees : sequence of GrownTree or Dendrite
-        Back (far) to front (near); all of one shape.
+        Back (far) to front (near); all of one shape (one tree alone is drawn
+        in the ``far`` colour, as a list of one is).
     background : (H, W, 3) array_like, optional
-        Image to draw on; white by default.
+        Image to draw on (RGB, or grey / RGBA converted as
+        :func:`~branchnb.core.image.as_rgb` does); white by default.
     near : RGB triple
         Colour of the last (front) tree.
     far : RGB triple
@@ -587,8 +624,12 @@ def render_layers(trees, *, background=None, near=(0.2, 0.13, 0.07), far=(0.72, 
 
     Raises
     ------
+    TypeError
+        If ``trees`` is not a sequence of :class:`GrownTree` or
+        :class:`~branchnb.dendrite.dendrite.Dendrite`.
     ValueError
-        If ``trees`` is empty.
+        If ``trees`` is empty or its trees differ in shape, or ``background``
+        is not an RGB(A) image of their shape.
 
     Examples
     --------
@@ -596,11 +637,20 @@ def render_layers(trees, *, background=None, near=(0.2, 0.13, 0.07), far=(0.72, 
     >>> render_layers(ts).image.shape
     (60, 50, 3)
     """
+    if isinstance(trees, (GrownTree, Dendrite)):
+        trees = [trees]  # one tree drawn in the near colour
+    if isinstance(trees, (str, bytes, dict)) or not hasattr(trees, "__iter__"):
+        raise TypeError(f"trees must be a sequence of GrownTree or Dendrite, got {type(trees).__name__}")
     trees = [t.dendrite if isinstance(t, GrownTree) else t for t in trees]
     if not trees:
         raise ValueError("trees is empty")
-    shape = trees[0].shape
-    img = np.ones((*shape, 3), np.float32) if background is None else background
+    for k, d in enumerate(trees):
+        if not isinstance(d, Dendrite):
+            raise TypeError(f"trees[{k}] must be a GrownTree or a Dendrite, got {type(d).__name__}")
+        if d.shape is None or tuple(d.shape) != tuple(trees[0].shape or ()):
+            raise ValueError(f"trees[{k}] has shape {d.shape}, expected {trees[0].shape} (one canvas)")
+    shape = tuple(trees[0].shape)
+    img = np.ones((*shape, 3), np.float32) if background is None else _canvas(trees[0], background)
     n = len(trees)
     cols = [tuple(np.asarray(far) + (np.asarray(near) - np.asarray(far)) * (k / max(n - 1, 1)))
             for k in range(n)]
