@@ -50,6 +50,11 @@ class _StrikeSteps:
     """:class:`~branchnb.dendrite.stylization.Stylizer`'s lightning methods (they use its
     cached stages: ``plan``, ``dendrite``, ``importance`` ...)."""
 
+    def _working_object(self, p: StylizeParams) -> np.ndarray | None:
+        """:func:`~branchnb.dendrite.foreground._object_mask` of the working image (cached: the
+        bolt's content and its outline parts both ask for it)."""
+        return self._get(("working_object", p.lattice_size), lambda: _object_mask(self.working_image(p)))
+
     def _lightning_content(self, p: StylizeParams) -> tuple[np.ndarray, bool]:
         """Where a lightning bolt finds something to draw, and whether that is an object
         found on its ground (cached).
@@ -67,7 +72,7 @@ class _StrikeSteps:
             photo = silhouette(content).mean() > STRIKE_MAX_COVER
             if photo and self.strike(p) is not None:
                 return content, False
-            obj = _object_mask(self.working_image(p))
+            obj = self._working_object(p)
             if obj is None:
                 return content, False
             if photo:
@@ -93,7 +98,7 @@ class _StrikeSteps:
         (:func:`~branchnb.dendrite.strike_outline.split_by_colour`).
         """
         def make():
-            obj = _object_mask(self.working_image(p))
+            obj = self._working_object(p)
             objs = obj & content if obj is not None else silhouette(content)
             # and split by colour: touching fruits, overlapping letters of two colours
             return objs, outline_parts(objs, image=as_rgb(self.working_image(p)))
