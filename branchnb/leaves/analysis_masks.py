@@ -1,7 +1,7 @@
 """The step from a layer's ``D`` to its induced mask on each exemplar, one code path for
 :func:`~branchnb.leaves.analysis_induce.induce` (so :meth:`~branchnb.leaves.analysis.LeafAnalysis.reinduce`)
 and the slider preview :meth:`~branchnb.leaves.analysis.LeafAnalysis.retune`: ``{D < delta}`` with the
-snapped paths (:func:`~branchnb.leaves.analysis_induce._induced`), the exemplar's own ``delta`` beside
+snapped paths (:func:`~branchnb.leaves.analysis_combine._induced`), the exemplar's own ``delta`` beside
 its own layer pixels, the contrast trim, and a thin layer's outline / ink-zone / hole-rim / speck trimming
 (:func:`~branchnb.leaves.analysis_trim._trimmed`). The preview skipped the last three and the own
 ``delta``: on the sample maples (training leaf 01, ``liberal_threshold=0.3``) it showed 242 and 434 vein
@@ -62,7 +62,8 @@ def _exemplar_mask(steps: _MaskSteps, e: int, combined_e, delta: float, tr_iou: 
     ``taken_e`` what the layers above took there, ``contrast_of(e)`` the contrast map when needed
     (:func:`_contrast_map`; computed only then).
     """
-    from .analysis_induce import COLOUR_RELIABLE, _induced, _over_induced, _own_delta
+    from .analysis_combine import COLOUR_RELIABLE, _induced, _over_induced
+    from .analysis_own import _own_delta
     from .analysis_trim import _trimmed
     from .own_contrast import trim_by_contrast, without_blobs
     s, t = steps, steps.t

@@ -20,7 +20,7 @@ A layer loses its tie (``lambda = 0``) only when both hold:
   (measured within the liberal radius widened by the registration error).
 
 * the layer's colour singles it out on the training leaf
-  (:data:`~branchnb.leaves.analysis_induce.SINGLES_OUT`): marks of nearly
+  (:data:`~branchnb.leaves.analysis_combine.SINGLES_OUT`): marks of nearly
   the blade's colour have only their place to go by.
 
 The first test alone guards structural layers; the second keeps the tie
