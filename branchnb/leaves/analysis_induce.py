@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from functools import partial
 
 import numpy as np
 from scipy import ndimage as ndi
@@ -337,6 +338,12 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         kept = []
         steps_kept = _MaskSteps(user, blades, t, snapped, centred, own, own_px, ridge_px, zones, rims,
                                 outline_in_layer, inked_outline)
+        if scattered and len(residuals) >= 2:
+            # D of the marks on the residual the layer above was read on: what that layer took of
+            # their colour (see Notes).
+            steps_kept.claims = thread_map(partial(_claims, residuals[-2], t=t, taken=taken, stats=stats,
+                                                   params=params, space=space, own_px=own_px, cdf=cdf, n_px=n_px,
+                                                   blades=blades, combined=combined, colour=colour), range(n))
         contrast = [None] * n
 
         def contrast_of(e, labs=labs, steps_kept=steps_kept):
@@ -355,6 +362,11 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
             report(step / steps, f"layer {name}: residual of exemplar {e + 1}/{n}")
             step += 1
             masks.append(m)
+            moved = m & taken[e]
+            if moved.any():
+                # Marks given back by their shape (:func:`_claims`) leave the layers above.
+                for above in out:
+                    above.masks[e] = above.masks[e] & ~moved
             taken[e] = taken[e] | m
             # In turn: the patch quilting of wide parts draws from one generator, exemplar after exemplar.
             new_residual.append(remove_layer(residual[e], blades[e], gone, rng=rng))
@@ -379,6 +391,19 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         step += 1
     report(1.0, "induction done")
     return out, residuals, space
+
+
+def _claims(before, e, *, t, taken, stats, params, space, own_px, cdf, n_px, blades, combined, colour):
+    """A scattered layer's ``D`` on exemplar ``e`` read on ``before[e]``, the residual the layers above
+    were read on (None on the training leaf and where they took nothing), for
+    :func:`~branchnb.leaves.induction_scatter.reclaim_marks`."""
+    if e == t or not taken[e].any():
+        return None
+    q = _quantise_lab(_matched_lab(before[e], stats, e, t, params), space)
+    s = colour_similarity(q, blades[e], _own_cdf(q, own_px[e], cdf, space.bins), n_px,
+                          weights=space.weights if params.lab_units else None)
+    # D = lambda F + S: the same spatial part, the colour term read before the removal.
+    return (np.asarray(combined[e]) - np.asarray(colour[e]) + s).astype(np.float32)
 
 
 def _ridge_extension(residual, blades, t, e, user, m, stats, params, *, level: float = 0.2,

@@ -26,7 +26,9 @@ class _MaskSteps:
     ``own`` each exemplar's own contrast direction, ``own_px``/``ridge_px`` its own layer pixels,
     ``zones``/``rims`` its ink outline zone and hole rims, ``outline_in_layer``/``inked_outline`` the
     training leaf's outline flags (:func:`~branchnb.leaves.analysis_trim._trimmed`); ``colours`` the
-    colour terms ``S_e`` of every neighbourhood the induction tried (side -> maps, in its order).
+    colour terms ``S_e`` of every neighbourhood the induction tried (side -> maps, in its order);
+    ``claims`` a scattered layer's ``D`` per exemplar read before the layers above were removed (None
+    where nothing was taken), for the marks they took (:func:`~branchnb.leaves.induction_scatter.reclaim_marks`).
     """
 
     user: np.ndarray
@@ -42,6 +44,7 @@ class _MaskSteps:
     outline_in_layer: bool
     inked_outline: bool
     colours: dict | None = None
+    claims: list | None = None
 
 
 def _contrast_map(lab_t, lab_e, steps: _MaskSteps, e: int) -> np.ndarray:
@@ -103,4 +106,8 @@ def _exemplar_mask(steps: _MaskSteps, e: int, combined_e, delta: float, tr_iou: 
     if s.snapped is not None:
         m = _trimmed(m, blade, s.user, s.snapped[e], s.zones[e], s.rims[e], outline_in_layer=s.outline_in_layer,
                      inked_outline=s.inked_outline)
+    if s.claims is not None and s.claims[e] is not None:
+        # Marks the layers above took by their colour come back where their shape is a mark's.
+        from .induction_scatter import reclaim_marks
+        m = m | reclaim_marks((np.asarray(s.claims[e]) < delta) & blade, m, taken_e, s.user)
     return m, contrast

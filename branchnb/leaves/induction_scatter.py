@@ -60,7 +60,7 @@ from scipy import ndimage as ndi
 
 from ..core.image import as_mask
 
-__all__ = ["TIE_LEVEL", "SCATTER_SPAN", "positional_tie", "scattered_layer"]
+__all__ = ["RECLAIM_SLACK", "TIE_LEVEL", "SCATTER_SPAN", "positional_tie", "reclaim_marks", "scattered_layer"]
 
 #: :func:`positional_tie` below which a scattered layer gets no positional tie (``lambda = 0``). Measured on
 #: procedural families: veins 0.9-1.0; rust spots of which one sits at the same place on every leaf 0.23.
@@ -177,3 +177,90 @@ def positional_tie(colour_in_blades, distances, blades, training_index: int, rad
         chance = float(near[blade].mean())
         ties.append(1.0 if chance >= 1.0 else (share - chance) / (1.0 - chance))
     return float(min(np.median(ties), 1.0)) if ties else 1.0
+
+
+#: A piece the layers above took is a mark when it is no larger than this many times the training layer's
+#: largest mark and no more elongated than this many times its most elongated one (:func:`reclaim_marks`).
+RECLAIM_SLACK = 1.5
+
+
+def _piece_shapes(labels, n):
+    """Per 8-connected piece (1..n): pixel count and elongation (the ratio of the principal axes' spreads)."""
+    ys, xs = np.nonzero(labels)
+    lab = labels[ys, xs]
+    cnt = np.bincount(lab, minlength=n + 1).astype(np.float64)
+    c = np.maximum(cnt, 1.0)
+    mx, my = np.bincount(lab, xs, n + 1) / c, np.bincount(lab, ys, n + 1) / c
+    # A pixel is a unit square: its own spread (1/12) keeps a one-pixel line's minor axis above 0.
+    sxx = np.bincount(lab, xs * xs, n + 1) / c - mx * mx + 1.0 / 12
+    syy = np.bincount(lab, ys * ys, n + 1) / c - my * my + 1.0 / 12
+    sxy = np.bincount(lab, xs * ys, n + 1) / c - mx * my
+    root = np.sqrt(np.maximum((sxx - syy) ** 2 / 4 + sxy ** 2, 0.0))
+    big, small = (sxx + syy) / 2 + root, np.maximum((sxx + syy) / 2 - root, 1.0 / 12)
+    return cnt, np.sqrt(big / small)
+
+
+def reclaim_marks(claims, mask, taken, user, *, slack: float = RECLAIM_SLACK) -> np.ndarray:
+    """The pixels the layers above took that belong to a scattered layer's marks, by their shape.
+
+    The layers above are induced first and take what their colour term
+    finds: pale lichen dots beside a pale vein, or touching it, went to the
+    vein layer (a third of one leaf's dots), and its removal wiped them
+    before the marks were read. Where both claim a piece, the shape
+    decides (beyond the paper): a mark is compact, a vein elongated. Each
+    8-connected piece of the marks found (``mask``) joined with the taken
+    pixels of the marks' colour (``claims & taken``) that holds taken
+    pixels goes to the marks when it is no larger than ``slack`` times
+    the training layer's largest mark (pixels) and no more elongated
+    than ``slack`` times its most elongated one; a vein claimed whole, or
+    a dot merged with a stretch of vein, is neither.
+
+    Parameters
+    ----------
+    claims : (H, W) bool array_like
+        Pixels of the marks' colour (their ``{D < delta}``) read before
+        the layers above were removed.
+    mask : (H, W) bool array_like
+        The marks induced outside ``taken``.
+    taken : (H, W) bool array_like
+        What the layers above took.
+    user : (h, w) bool array_like
+        The user's (scattered) layer on the training leaf: its marks' sizes and shapes.
+    slack : float
+        Allowance over the training marks' largest size and elongation (:data:`RECLAIM_SLACK`).
+
+    Returns
+    -------
+    (H, W) bool ndarray
+        Pixels of ``taken`` to give to the marks.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> user = np.zeros((40, 40), bool); user[5:9, 5:9] = user[20:24, 30:34] = True
+    >>> taken = np.zeros((40, 40), bool); taken[20, :] = True          # a vein
+    >>> claims = np.zeros((40, 40), bool); claims[18:22, 10:14] = True  # a dot across it
+    >>> mask = claims & ~taken
+    >>> int(reclaim_marks(claims, mask, taken, user).sum())
+    4
+    >>> int(reclaim_marks(claims | taken, mask, taken, user).sum())  # the whole vein claimed: no mark
+    0
+    """
+    mask = as_mask(mask, name="mask")
+    claims = as_mask(claims, shape=mask.shape, name="claims")
+    taken = as_mask(taken, shape=mask.shape, name="taken")
+    user = as_mask(user, name="user")
+    if not np.isfinite(slack) or slack <= 0:
+        raise ValueError(f"slack must be a positive number, got {slack}")
+    out = np.zeros(mask.shape, bool)
+    extra = claims & taken
+    ulab, un = ndi.label(user, structure=np.ones((3, 3)))
+    if not extra.any() or un == 0:
+        return out
+    ucnt, uelong = _piece_shapes(ulab, un)
+    lab, n = ndi.label(mask | extra, structure=np.ones((3, 3)))
+    cnt, elong = _piece_shapes(lab, n)
+    ok = (cnt <= slack * ucnt[1:].max()) & (elong <= slack * uelong[1:].max())
+    ok[0] = False
+    ok &= np.bincount(lab[extra], minlength=n + 1) > 0
+    return ok[lab] & extra
