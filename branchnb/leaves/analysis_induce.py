@@ -77,7 +77,7 @@ from .induction import (
     scaled_lengths,
     spatial_term,
 )
-from .induction_scatter import scattered_layer
+from .induction_scatter import layer_coloured, scattered_layer
 from .snapping import contrast_direction
 from .stored_maps import BoxedMaps, CombinedMaps, DistanceMaps
 
@@ -325,10 +325,12 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
                 best = (tr_iou, n_px, colour, lam, overlap, combined, delta)
         step += n
         tr_iou, n_px, colour, lam, overlap, combined, delta = best
+        own_read = []
         if params.match_colours and snapped is None:
             redo = _own_colours(colour, combined, delta, seen, blades, t, user, cdf, own_px, space, n_px, params,
                                 counted=counted)
             if redo is not colour:
+                own_read = [e for e in range(n) if redo[e] is not colour[e]]
                 colour = redo
                 lam, overlap, combined, delta, tr_iou = _combine(colour, dist, lengths, tolerance, params, blades,
                                                                  registrations, t, user)
@@ -338,6 +340,13 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         kept = []
         steps_kept = _MaskSteps(user, blades, t, snapped, centred, own, own_px, ridge_px, zones, rims,
                                 outline_in_layer, inked_outline)
+        if scattered:
+            # Each mark's edge by its pixels' own colour, in the colours its term was read in.
+            colour_t = np.median(labs[t][user], axis=0)
+            own_t = np.median(_lab(seen[t])[user], axis=0) if own_read else None
+            steps_kept.coloured = [None if e == t else layer_coloured(
+                _lab(seen[e]) if e in own_read else labs[e], blades[e], own_t if e in own_read else colour_t,
+                taken[e]) for e in range(n)]
         if scattered and len(residuals) >= 2:
             # D of the marks on the residual the layer above was read on: what that layer took of
             # their colour (see Notes).

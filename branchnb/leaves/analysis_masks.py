@@ -28,7 +28,9 @@ class _MaskSteps:
     training leaf's outline flags (:func:`~branchnb.leaves.analysis_trim._trimmed`); ``colours`` the
     colour terms ``S_e`` of every neighbourhood the induction tried (side -> maps, in its order);
     ``claims`` a scattered layer's ``D`` per exemplar read before the layers above were removed (None
-    where nothing was taken), for the marks they took (:func:`~branchnb.leaves.induction_scatter.reclaim_marks`).
+    where nothing was taken), for the marks they took (:func:`~branchnb.leaves.induction_scatter.reclaim_marks`);
+    ``coloured`` its pixels of the layer's colour per exemplar, deciding the marks' edges
+    (:func:`~branchnb.leaves.induction_scatter.refine_edges`).
     """
 
     user: np.ndarray
@@ -45,6 +47,7 @@ class _MaskSteps:
     inked_outline: bool
     colours: dict | None = None
     claims: list | None = None
+    coloured: list | None = None
 
 
 def _contrast_map(lab_t, lab_e, steps: _MaskSteps, e: int) -> np.ndarray:
@@ -106,6 +109,9 @@ def _exemplar_mask(steps: _MaskSteps, e: int, combined_e, delta: float, tr_iou: 
     if s.snapped is not None:
         m = _trimmed(m, blade, s.user, s.snapped[e], s.zones[e], s.rims[e], outline_in_layer=s.outline_in_layer,
                      inked_outline=s.inked_outline)
+    if s.coloured is not None and s.coloured[e] is not None:
+        from .induction_scatter import refine_edges
+        m = refine_edges(m, s.coloured[e], blade & ~taken_e)
     if s.claims is not None and s.claims[e] is not None:
         # Marks the layers above took by their colour come back where their shape is a mark's.
         from .induction_scatter import reclaim_marks
