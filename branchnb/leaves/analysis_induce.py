@@ -340,14 +340,17 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         kept = []
         steps_kept = _MaskSteps(user, blades, t, snapped, centred, own, own_px, ridge_px, zones, rims,
                                 outline_in_layer, inked_outline)
-        if scattered:
+        colour_t = np.median(labs[t][user], axis=0)
+        # Only marks whose pixels' own colour tells them from the blade on the training leaf (not the
+        # sample maples' spots of nearly the blade's colour: there the edges grew over the blade).
+        singled = scattered and _iou(layer_coloured(labs[t], blades[t], colour_t, taken[t]), user) >= MARKS_SINGLED
+        if singled:
             # Each mark's edge by its pixels' own colour, in the colours its term was read in.
-            colour_t = np.median(labs[t][user], axis=0)
             own_t = np.median(_lab(seen[t])[user], axis=0) if own_read else None
             steps_kept.coloured = [None if e == t else layer_coloured(
                 _lab(seen[e]) if e in own_read else labs[e], blades[e], own_t if e in own_read else colour_t,
                 taken[e]) for e in range(n)]
-        if scattered and len(residuals) >= 2:
+        if singled and len(residuals) >= 2:
             # D of the marks on the residual the layer above was read on: what that layer took of
             # their colour (see Notes).
             steps_kept.claims = thread_map(partial(_claims, residuals[-2], t=t, taken=taken, stats=stats,
@@ -400,6 +403,16 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         step += 1
     report(1.0, "induction done")
     return out, residuals, space
+
+
+#: A scattered layer's edges and the marks the layers above took (:func:`induce`) are decided by the
+#: pixels' own colour only where that colour alone reproduces the user's layer on the training leaf at
+#: least this well (IoU of :func:`~branchnb.leaves.induction_scatter.layer_coloured` with it).
+MARKS_SINGLED = 0.5
+
+
+def _iou(a, b) -> float:
+    return float(np.count_nonzero(a & b)) / max(float(np.count_nonzero(a | b)), 1.0)
 
 
 def _claims(before, e, *, t, taken, stats, params, space, own_px, cdf, n_px, blades, combined, colour):
