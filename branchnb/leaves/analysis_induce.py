@@ -231,7 +231,9 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
     -----
     Beyond the paper (issue 22): a layer of marks at chance places is never snapped, is read on the
     residual the layer above left outside its mask, and its windows leave out what the layers above
-    took (:mod:`~branchnb.leaves.induction_scatter`).
+    took (:mod:`~branchnb.leaves.induction_scatter`). Where its own colour singles it out
+    (:data:`MARKS_SINGLED`), its edges follow its pixels' colour and the marks the layers above took
+    come back to it by their shape, leaving those layers' masks (leaves75).
     """
     report = _progress(progress, 0.0, 1.0)
     rng = as_rng(rng)
@@ -417,15 +419,19 @@ def _iou(a, b) -> float:
 
 def _claims(before, e, *, t, taken, stats, params, space, own_px, cdf, n_px, blades, combined, colour):
     """A scattered layer's ``D`` on exemplar ``e`` read on ``before[e]``, the residual the layers above
-    were read on (None on the training leaf and where they took nothing), for
+    were read on, where they took it (a one-map :class:`~branchnb.leaves.stored_maps.BoxedMaps`, ``inf``
+    elsewhere; None on the training leaf and where they took nothing), for
     :func:`~branchnb.leaves.induction_scatter.reclaim_marks`."""
     if e == t or not taken[e].any():
         return None
     q = _quantise_lab(_matched_lab(before[e], stats, e, t, params), space)
     s = colour_similarity(q, blades[e], _own_cdf(q, own_px[e], cdf, space.bins), n_px,
                           weights=space.weights if params.lab_units else None)
-    # D = lambda F + S: the same spatial part, the colour term read before the removal.
-    return (np.asarray(combined[e]) - np.asarray(colour[e]) + s).astype(np.float32)
+    # D = lambda F + S: the same spatial part, the colour term read before the removal. Only what was
+    # taken is read (:func:`~branchnb.leaves.induction_scatter.reclaim_marks`): kept on its box.
+    where = taken[e] & blades[e]
+    d = np.where(where, np.asarray(combined[e]) - np.asarray(colour[e]) + s, np.inf).astype(np.float32)
+    return BoxedMaps([d], [where], np.inf)
 
 
 def _ridge_extension(residual, blades, t, e, user, m, stats, params, *, level: float = 0.2,

@@ -27,8 +27,9 @@ class _MaskSteps:
     ``zones``/``rims`` its ink outline zone and hole rims, ``outline_in_layer``/``inked_outline`` the
     training leaf's outline flags (:func:`~branchnb.leaves.analysis_trim._trimmed`); ``colours`` the
     colour terms ``S_e`` of every neighbourhood the induction tried (side -> maps, in its order);
-    ``claims`` a scattered layer's ``D`` per exemplar read before the layers above were removed (None
-    where nothing was taken), for the marks they took (:func:`~branchnb.leaves.induction_scatter.reclaim_marks`);
+    ``claims`` a scattered layer's ``D`` per exemplar read before the layers above were removed, where
+    they took it (one-map :class:`~branchnb.leaves.stored_maps.BoxedMaps`; None where nothing was
+    taken), for the marks they took (:func:`~branchnb.leaves.induction_scatter.reclaim_marks`);
     ``coloured`` its pixels of the layer's colour per exemplar, deciding the marks' edges
     (:func:`~branchnb.leaves.induction_scatter.refine_edges`).
     """
@@ -115,5 +116,5 @@ def _exemplar_mask(steps: _MaskSteps, e: int, combined_e, delta: float, tr_iou: 
     if s.claims is not None and s.claims[e] is not None:
         # Marks the layers above took by their colour come back where their shape is a mark's.
         from .induction_scatter import reclaim_marks
-        m = m | reclaim_marks((np.asarray(s.claims[e]) < delta) & blade, m, taken_e, s.user)
+        m = m | reclaim_marks((np.asarray(s.claims[e][0]) < delta) & blade, m, taken_e, s.user)
     return m, contrast

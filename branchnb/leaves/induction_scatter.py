@@ -51,6 +51,24 @@ after: blotches 240 px 0.00 -> 0.99, 450 px 0.71 -> 1.00; hole rims
 0.69 (the vein layer took a third of one leaf's dots), 400 px 0.12 ->
 0.91; rust spots 160 px 0.63 -> 0.99, 600 px 0.14 -> 1.00. The layers
 above (veins) are induced exactly as before.
+
+Where the marks' own colour tells them from the blade on the training
+leaf (:func:`layer_coloured` reproduces the user's layer with IoU at
+least :data:`~branchnb.leaves.analysis_induce.MARKS_SINGLED`; the sample
+maples' spots of nearly the blade's colour: 0.02, left as they were),
+two more steps (leaves75, beyond the paper):
+
+* the mark's one-pixel edge is decided by each pixel's own colour
+  (:func:`refine_edges`): the windowed colour term drew a fringe of blade
+  round every dark hole rim and left the soft edges of spots;
+* the marks the layers above took by their colour come back where both
+  claim a piece and its shape is a mark's (:func:`reclaim_marks`: compact
+  and no larger than the training marks), and leave those layers' masks.
+
+Worst exemplar before -> after: lichen dots 240 px 0.69 -> 1.00, hole
+rims 500 px 0.79 -> 0.97, the procedural elliptic family's spots (256
+px) 0.66 -> 0.90; vein masks of the procedural lobed, trilobed and
+elliptic families unchanged but for 1 px (a spot's) on 3 of 12 leaves.
 """
 
 from __future__ import annotations
