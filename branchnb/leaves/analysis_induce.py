@@ -342,7 +342,7 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         kept = []
         steps_kept = _MaskSteps(user, blades, t, snapped, centred, own, own_px, ridge_px, zones, rims,
                                 outline_in_layer, inked_outline)
-        colour_t = np.median(labs[t][user], axis=0)
+        colour_t = np.median(labs[t][user], axis=0) if scattered else None
         # Only marks whose pixels' own colour tells them from the blade on the training leaf (not the
         # sample maples' spots of nearly the blade's colour: there the edges grew over the blade).
         singled = scattered and _iou(layer_coloured(labs[t], blades[t], colour_t, taken[t]), user) >= MARKS_SINGLED
