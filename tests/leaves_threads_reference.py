@@ -5,6 +5,10 @@ analyze() on leaf_family(3, size, kind, rng=seed) with simulate_scribbles as in 
 The spots entries of exemplars 1-2 were made again at leaves73 (issue 22: scattered marks are not
 snapped and are read where the veins were removed by their mask alone); their IoU with the true
 spots rose (lobed 0.78 / 0.57 -> 0.89 / 0.82, elliptic 0.52 / 0.77 -> 0.83 / 0.93), the veins' are unchanged.
+Made again at leaves75 (a scattered layer's edges by its pixels' colour, marks the veins took given back
+by shape): lobed 0.893 / 0.822 -> 0.898 / 0.772 (exemplar 2's 63-px spots gained a 7-px rim of their
+soft edge), elliptic 0.826 / 0.932 -> 0.835 / 0.950; veins kept as main's (elliptic exemplar 1 now has
+1 px less, IoU 0.999).
 """
 
 
@@ -51,12 +55,12 @@ REFERENCE = {
         'Hfb5JLT6EDrho6b8V3pC/k4oZmoavBKKak+Evqgrj0Fncs+Uqrzox6ZSrUtf6kssmA=='
     ),
     ('lobed', 'spots', 1): ((170, 172),
-        'eNpjYBgFo2AUDEXQgE2QB5sg4wFsojLYBJmxKrXD6gCsSuWwKi3AatdoHI6CUTAKBgE4grUwfYCtMP1HvKnsWAV/YBP9j600Zcdq'
-        'V/0DYpUy1WMzVR2bfoYarEU01krGYDS9jIJRMApgAACjZBAQ'
+        'eNpjYBgFo2AUDEXQgE2QB5sg4wFsojLYBJmxKrXDauoDbKJyWJUWYLVrNA5HwSgYBYMAHMEmyIethGP8R7yp9dgE2X9gE/2PreDl'
+        'x2rXf2zOYsemlKkem6nqWAvuGqxuxVrJGGATZBpNRKNgFIxIAADWzxE6'
     ),
     ('lobed', 'spots', 2): ((170, 172),
-        'eNpjYBgFo2AUjIJRMAqGFWDBKupAtFL2P9hE6w9gEWT+gU0pfwM20RqsdmEzlcEGmyDjgdGoHWjgQKH+F9gE2bBGrB82QZ4H2ERd'
-        'RiNmFIyCUUB/AAAdbgnB'
+        'eNpjYBgFo2AUjIJRMAqGFWDDKuqATZAVmyD7P2yi9QewCDL/wKaUvwGbaA1Wu7CZymCDTZDxwGjUDjRwoFD/C6zpFWvE5mET5H2A'
+        'TfTMaMSMglEwCugPADyzCm8='
     ),
     ('elliptic', 'veins', 0): ((204, 198),
         'eNrtl79uFDEQxsf2ancLK7t0lnLKLX0kjGi2OJ32UcyfB7iSLk6QoEEKJXQ8iqMgQcUTUNxBj47uihT40ubnIlIKkG5Kz92M5/s+'
@@ -99,12 +103,12 @@ REFERENCE = {
         'T00CNi8cYDB8gs3eZwxsh7E5lv0GgwQ/NsfKA7EdNpP+AQlsjmUHeo0Rq0k/SIw5BhuSU03DaI4aBaNgFIyCUTAKRgF9AAAkiRxI'
     ),
     ('elliptic', 'spots', 1): ((204, 198),
-        'eNpjYBgFo2AUjIJRMCSBAi6JIzjEmXBpYMQlIYdDnK0Gh4TwD9p7bxSMArzJWQaXhAEuiQPUcpMELokHOMT5cVld34BD4j8OceYP'
-        'OCTkcbnJgtYxhMvT7AdIdCpLBQ4JS1xWFOMq6p4AiTQcbmLcgc1NwIhgw+bgeiCWxOX1hNH8OQpGwSgYBaNgFIwC6gEA+pMRxg=='
+        'eNpjYBgFo2AUjIJRMCSBAi6JMzjEmXBpYG7AISGHQ5ztDw4J6R+0994oGAV4k7MMLgkDXBIHqOUmCVwSD3CI8+Oyuh5XnvyPKxN/'
+        'wCEhj8tNFrSOIVyeZj9AolNZKnBIWOKyohiHOOMXIJGGw02MO7C5CSjBhs3B9UAsicvrCaP5cxSMglEwCkbBKBgF1AMANbUTKA=='
     ),
     ('elliptic', 'spots', 2): ((204, 198),
-        'eNrtlD0OQFAQhN+j0PnpFBKXUKhwEudQSDiG4+hcQ6dVKhT2ADOtRMyXbLOTzbzMbp5zQgghhPgPAROKhQjDjvv+IELUrljIbmKR'
-        'nESY2GsHJuzfX1HOBEvJo2hDa5YwPpsY0YCtzqOkktYKWeSXWcxo2dbskXdjVaOzYUfgz1fu/GL25Ghd1RFhY9YNs2DeMXtsqg9L'
-        'CCGEEA8uRRpj'
+        'eNpjYBgFo2AUjIJRMApGwcgBTLgkZGbgkKh4gF2c8TkOCXb7A9glJP/gsIL/Aw6JegdcjsLljQek+nvwAQlcEsBQYsQWtMxAQXms'
+        'wQfUUYNNAzDqGLGFFL89EGOzQvIH0IoGLBLpQME4bHbbAbEFtmSDKxEw4koEjA3UTOc/cNmCI9EymOBKg8dxWW2HywpcdvPhcqzA'
+        'aIE1CkbBKBgFo2AUjAIAhEQbjw=='
     ),
 }

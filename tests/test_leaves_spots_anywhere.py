@@ -10,6 +10,7 @@ import warnings
 import cv2
 import numpy as np
 import pytest
+from leaves_marks import marked_leaf
 
 from branchnb.core.distance import edt
 from branchnb.core.metrics import iou
@@ -21,49 +22,7 @@ from branchnb.leaves.induction_scatter import TIE_LEVEL, positional_tie, scatter
 def _spotted(seed, s=240):
     """A toothed ovate leaf with pinnate lighter veins and 4-9 rust spots at random places, one of them
     at the same place on every leaf (a chance overlap)."""
-    rng = np.random.default_rng(seed)
-    length, tilt = s * rng.uniform(0.6, 0.72), rng.uniform(-0.25, 0.25)
-    width = length * rng.uniform(0.45, 0.62)
-    base = np.array([s / 2, s * 0.85])
-    ax = np.array([np.sin(tilt), -np.cos(tilt)])
-    nx = np.array([-ax[1], ax[0]])
-    t = np.linspace(0, 1, 400)
-    half = width / 2 * np.sin(np.pi * t ** 0.8) ** 0.9
-    teeth = 1 + 0.04 * np.abs(np.sin(t * np.pi * 22)) + 0.025 * np.abs(np.sin(t * np.pi * 44))
-    poly = np.r_[base + (t * length)[:, None] * ax + (half * teeth)[:, None] * nx,
-                 (base + (t * length)[:, None] * ax - (half * teeth)[:, None] * nx)[::-1]]
-    blade = np.zeros((s, s), np.uint8)
-    cv2.fillPoly(blade, [(poly * 4).astype(np.int32)], 1, cv2.LINE_8, shift=2)
-    veins = np.zeros((s, s), np.uint8)
-    mid = np.r_[[base - ax * s * 0.08], base + (t * length)[:, None] * ax][::20]
-    cv2.polylines(veins, [(mid * 4).astype(np.int32)], False, 1, max(2, s // 100), cv2.LINE_8, shift=2)
-    n_sec = rng.integers(7, 10)
-    for k in range(1, n_sec + 1):
-        tt = k / (n_sec + 1.5)
-        p0 = base + tt * length * ax
-        tt2 = min(tt + 0.16, 0.98)
-        for side in (-1, 1):
-            p1 = base + tt2 * length * ax + side * width / 2 * np.sin(np.pi * tt2 ** 0.8) ** 0.9 * nx * 0.93
-            cv2.line(veins, tuple((p0 * 4).astype(int)), tuple((p1 * 4).astype(int)), 1, max(1, s // 200),
-                     cv2.LINE_8, shift=2)
-    veins &= blade
-    spots = np.zeros((s, s), np.uint8)
-    ys, xs = np.nonzero(cv2.erode(blade, np.ones((int(s * 0.08) | 1,) * 2, np.uint8)))
-    for k in range(rng.integers(4, 10)):
-        i = rng.integers(len(xs))
-        r = max(2, int(rng.uniform(0.012, 0.03) * s))
-        c = (int(xs[i]), int(ys[i])) if k else tuple(int(v) for v in base + 0.45 * length * ax + 0.2 * width * nx)
-        cv2.circle(spots, c, r, 1, -1)
-    spots &= blade & (1 - veins)
-    img = np.zeros((s, s, 4), np.float32)
-    green = np.array([0.36, 0.52, 0.18]) * rng.uniform(0.9, 1.1)
-    tex = cv2.GaussianBlur(rng.normal(0, 0.05, (s, s)).astype(np.float32), (0, 0), 1.2)
-    img[..., :3] = green + tex[..., None]
-    img[veins > 0, :3] = (0.62, 0.72, 0.38)
-    img[spots > 0, :3] = np.array([0.48, 0.26, 0.08]) + tex[spots > 0, None]
-    img[..., :3] = np.clip(img[..., :3], 0, 1)
-    img[..., 3] = blade
-    return img, spots > 0, veins > 0
+    return marked_leaf(seed, s, "spots", (4, 10), chance_spot=True)
 
 
 def test_spots_at_random_places_are_all_found():

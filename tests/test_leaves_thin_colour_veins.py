@@ -3,7 +3,7 @@
 A drawn maple with 1 px yellow veins on an orange fill at 640 px: the colour term's ``{D < delta}``
 takes nearly all of every exemplar's blade (the antialiased veins' colours overlap the fill's) and the
 contrast trim left a few dots (main: precision / recall 0.00 / 0.00); the snapped paths are induced
-there instead (:func:`branchnb.leaves.analysis_induce._over_induced`).
+there instead (:func:`branchnb.leaves.analysis_combine._over_induced`).
 """
 
 import numpy as np

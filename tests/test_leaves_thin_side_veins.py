@@ -1,7 +1,7 @@
 """Short side veins of a thin coloured layer are induced where the colour term takes the whole blade
 (issue 22).
 
-There (:func:`branchnb.leaves.analysis_induce._over_induced`) only the snapped paths were induced, and
+There (:func:`branchnb.leaves.analysis_combine._over_induced`) only the snapped paths were induced, and
 they carry the training layer's main structure: a drawn maple's 1 px yellow side veins on orange were
 missed (``_measure_drawn`` maple colour o3 640 px: recall 0.75). The exemplar's own layer pixels
 joined to the paths are now taken (:func:`branchnb.leaves.analysis_masks._exemplar_mask`).

@@ -169,14 +169,14 @@ leaf with its own ink veins as the user's layer. Vein IoU / recall of the
 other's induced veins against its ink veins, 1 -> 2 and 2 -> 1: 0.11 / 0.13
 and 0.06 / 0.06 before (the 6.2 px veins were not a thin layer, so nothing
 was snapped; maple 2's midrib stayed in its residual), 0.57 / 0.78 with the
-leaf-relative thin width (:func:`branchnb.leaves.analysis_induce.thin_width`)
+leaf-relative thin width (:func:`branchnb.leaves.analysis_snapped.thin_width`)
 and 0.41 / 0.63 -> 0.54 / 0.63 once the outline band is the closed blade's
 and 0.2 of it inked counts as outline (2 -> 1 had traced long stretches of
 the dashed outline as vein and removed them from the residual). Not solved:
 the blade is the paint and ink alone (the white gaps inside the outline
 are not leaf), and 1 -> 2 still takes short stretches of outline.
 With the outline stretches of an inked training outline left out
-(:func:`branchnb.leaves.analysis_induce._outline_stretches`): 1 -> 2 IoU
+(:func:`branchnb.leaves.analysis_outline._outline_stretches`): 1 -> 2 IoU
 0.57 -> 0.69, share of the 6 px outline band's plain pixels taken as vein
 0.170 -> 0.033; 2 -> 1 unchanged (0.54, nothing in the band).
 

@@ -11,7 +11,7 @@ prints the induced-vein IoU of every exemplar with its true veins, clean -> spec
 share of speck pixels taken as vein.
 
 Measured (192 px, seed 0, lobed/trilobed/elliptic/fan x green/autumn, 4 leaves): before the dots
-rule of :func:`branchnb.leaves.analysis_induce._without_dots`, specks taken 0.068 on average
+rule of :func:`branchnb.leaves.analysis_trim._without_dots`, specks taken 0.068 on average
 (0.133 trilobed green, 0.149 elliptic green), speckled IoU min 0.74 mean 0.82, worst drop from
 clean -0.05; after it, specks taken 0.007, speckled min 0.72 mean 0.83, worst drop -0.04; clean
 min 0.78 -> 0.76 (lobed green loses 0.01-0.02: vein fragments under 5 px go with the specks),

@@ -379,6 +379,10 @@ def _retuned(analysis, changes):
         masks = []
         for e in range(len(a.blades)):
             m, _ = _exemplar_mask(steps, e, combined[e], delta, tr_iou, taken[e], contrast_of)
+            moved = m & taken[e]
+            if moved.any():  # marks given back by their shape leave the layers above (as in induce)
+                for above in layers:
+                    above.masks[e] = above.masks[e] & ~moved
             taken[e] |= m
             masks.append(m)
         layers.append(dataclasses.replace(old, lam=lam, liberal_overlap=overlap, delta=delta,

@@ -1,20 +1,36 @@
 """Layer induction on every exemplar (the paper's Sec. 4 as steps of :func:`branchnb.leaves.analysis.analyze`):
-the colour and spatial terms, the snapped layers, the induced masks and their result, :class:`LayerInduction`."""
+one layer after another, its colour and spatial terms, snapped layers, induced masks and removal
+(:func:`induce`), and their result, :class:`LayerInduction`. The steps live in
+:mod:`~branchnb.leaves.analysis_combine` (eqs. 2-4 and the induced mask),
+:mod:`~branchnb.leaves.analysis_own` (each exemplar's own colours), :mod:`~branchnb.leaves.analysis_snapped`,
+:mod:`~branchnb.leaves.analysis_outline` and :mod:`~branchnb.leaves.analysis_trim`."""
 
 from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from functools import partial
 
 import numpy as np
 from scipy import ndimage as ndi
 
 from ..core.distance import edt as _edt
 from ..core.image import as_mask, as_rgb
-from ..core.morphology import _binary_dilation
 from ..core.random import as_rng
 from ..core.threads import thread_map
-from ..core.validate import check_bool, check_callback, check_int, check_real
+from ..core.validate import check_callback, check_int
+from .analysis_combine import (  # noqa: F401  (importable from here as before)
+    _LIBERAL_CACHE,
+    COLOUR_RELIABLE,
+    OVER_INDUCED,
+    SINGLES_OUT,
+    _combine,
+    _induced,
+    _liberal_to_training,
+    _over_induced,
+    registration_tolerance,
+    warp_mask,
+)
 from .analysis_masks import _contrast_map, _exemplar_mask, _MaskSteps
 from .analysis_outline import (  # noqa: F401  (importable from here as before)
     INKED_OUTLINE,
@@ -29,6 +45,21 @@ from .analysis_outline import (  # noqa: F401  (importable from here as before)
     _outline_in_layer,
     _outline_stretches,
 )
+from .analysis_own import (  # noqa: F401  (importable from here as before)
+    LAYER_COLOUR_PRESENT,
+    OWN_COLOURS_MAX,
+    SAME_CONTRAST,
+    UNDER_INDUCED,
+    _has_layer_colour,
+    _long_network,
+    _matched_lab,
+    _other_colour,
+    _own_cdf,
+    _own_colours,
+    _own_delta,
+    _under_induced,
+    _unmatched,
+)
 from .analysis_snapped import THIN_NETWORK, THIN_SHARE, _snapped, thin_width  # noqa: F401
 from .analysis_trim import RIM_TRIM, SPECK_LENGTH, SPECK_MIN, _pinholes, _trimmed, _without_dots  # noqa: F401
 from .induction import (
@@ -37,62 +68,22 @@ from .induction import (
     _lab,
     _quantise_lab,
     blade_lab_stats,
-    choose_threshold,
     colour_similarity,
     colour_space,
     layer_cdfs,
-    layer_weight,
     layer_width,
-    liberal_layer,
     neighbourhood_candidates,
     remove_layer,
     scaled_lengths,
     spatial_term,
 )
-from .induction_scatter import TIE_LEVEL, positional_tie, scattered_layer
+from .induction_scatter import layer_coloured, scattered_layer
 from .snapping import contrast_direction
 from .stored_maps import BoxedMaps, CombinedMaps, DistanceMaps
 
 __all__ = ["LayerInduction", "induce", "registration_tolerance", "warp_mask"]
 
 Progress = Callable[[float, str], None]
-
-
-def warp_mask(registration, mask, *, to_training: bool, level: float = 0.5) -> np.ndarray:
-    """A bool mask carried through a registration (bilinear, then ``> level``).
-
-    A thin layer (a one-pixel vein) warped bilinearly may fall below 0.5
-    between pixel centres and break up; ``level`` below 0.5 keeps it whole.
-
-    Parameters
-    ----------
-    registration : Registration or IdentityRegistration
-        Exemplar -> training leaf (anything with ``to_training`` and
-        ``from_training``).
-    mask : (H, W) bool array_like
-        The mask, on the exemplar (``to_training=True``) or on the training
-        leaf (``to_training=False``).
-    to_training : bool
-        Direction: exemplar -> training leaf, or training leaf -> exemplar.
-    level : float
-        Threshold of the warped coverage, in [0, 1] (default 0.5).
-
-    Returns
-    -------
-    (H, W) bool ndarray
-    """
-    if not (callable(getattr(registration, "to_training", None))
-            and callable(getattr(registration, "from_training", None))):
-        raise TypeError("registration must be a leaf registration (with to_training and from_training), "
-                        f"got {type(registration).__name__}")
-    m = as_mask(mask, name="mask").astype(np.float32)
-    to_training = check_bool(to_training, "to_training")
-    level = check_real(level, "level", min=0.0, max=1.0)
-    out = registration.to_training(m) if to_training else registration.from_training(m)
-    out = np.asarray(out)
-    if out.ndim == 3:
-        out = out[..., 0]
-    return out > level
 
 
 @dataclass
@@ -203,43 +194,6 @@ def _progress(progress: Progress | None, lo: float, hi: float) -> Progress:
     return report
 
 
-def registration_tolerance(registrations, training_index: int) -> float:
-    """The registration error the liberal layers must tolerate (px): the median of the exemplars' own.
-
-    The paper's liberal radius (``||x, c||^2 < 2 eps``: 8.9 px at 2 MP) is
-    about the accuracy of its registrations. Scaled to a small leaf it
-    shrinks below a pixel or two, while a registration's error does not
-    shrink with the image (keypoints are found to a pixel, outlines are
-    pixelated): a structural layer registered with 5 px of error would
-    then have no liberal overlap at all and get ``lambda = 0``. So the
-    radius is at least the registrations' measured error
-    (:attr:`~branchnb.leaves.registration.Registration.error_px`, the
-    median distance of matched keypoints after the warp), the same for
-    every exemplar (the training leaf's liberal layer included, so the
-    overlap compares like with like). Registrations without an error
-    estimate count as exact. Going beyond the paper.
-
-    Parameters
-    ----------
-    registrations : list
-        Exemplar ``i`` -> training leaf; their ``error_px`` is read.
-    training_index : int
-        The training leaf, left out.
-
-    Returns
-    -------
-    float
-        Median ``error_px`` in pixels; 0 when none is known.
-    """
-    errs = []
-    for i, r in enumerate(registrations):
-        if i == training_index:
-            continue
-        err = getattr(r, "error_px", None)
-        if err is not None and np.isfinite(err):
-            errs.append(float(err))
-    return float(np.median(errs)) if errs else 0.0
-
 
 def induce(images, blades, training_index: int, user_masks: dict, registrations,
            params: InductionParams, *, space: ColourSpace | None = None,
@@ -277,7 +231,9 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
     -----
     Beyond the paper (issue 22): a layer of marks at chance places is never snapped, is read on the
     residual the layer above left outside its mask, and its windows leave out what the layers above
-    took (:mod:`~branchnb.leaves.induction_scatter`).
+    took (:mod:`~branchnb.leaves.induction_scatter`). Where its own colour singles it out
+    (:data:`MARKS_SINGLED`), its edges follow its pixels' colour and the marks the layers above took
+    come back to it by their shape, leaving those layers' masks (leaves75).
     """
     report = _progress(progress, 0.0, 1.0)
     rng = as_rng(rng)
@@ -371,10 +327,12 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
                 best = (tr_iou, n_px, colour, lam, overlap, combined, delta)
         step += n
         tr_iou, n_px, colour, lam, overlap, combined, delta = best
+        own_read = []
         if params.match_colours and snapped is None:
             redo = _own_colours(colour, combined, delta, seen, blades, t, user, cdf, own_px, space, n_px, params,
                                 counted=counted)
             if redo is not colour:
+                own_read = [e for e in range(n) if redo[e] is not colour[e]]
                 colour = redo
                 lam, overlap, combined, delta, tr_iou = _combine(colour, dist, lengths, tolerance, params, blades,
                                                                  registrations, t, user)
@@ -384,6 +342,22 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         kept = []
         steps_kept = _MaskSteps(user, blades, t, snapped, centred, own, own_px, ridge_px, zones, rims,
                                 outline_in_layer, inked_outline)
+        colour_t = np.median(labs[t][user], axis=0) if scattered else None
+        # Only marks whose pixels' own colour tells them from the blade on the training leaf (not the
+        # sample maples' spots of nearly the blade's colour: there the edges grew over the blade).
+        singled = scattered and _iou(layer_coloured(labs[t], blades[t], colour_t, taken[t]), user) >= MARKS_SINGLED
+        if singled:
+            # Each mark's edge by its pixels' own colour, in the colours its term was read in.
+            own_t = np.median(_lab(seen[t])[user], axis=0) if own_read else None
+            steps_kept.coloured = [None if e == t else layer_coloured(
+                _lab(seen[e]) if e in own_read else labs[e], blades[e], own_t if e in own_read else colour_t,
+                taken[e]) for e in range(n)]
+        if singled and len(residuals) >= 2:
+            # D of the marks on the residual the layer above was read on: what that layer took of
+            # their colour (see Notes).
+            steps_kept.claims = thread_map(partial(_claims, residuals[-2], t=t, taken=taken, stats=stats,
+                                                   params=params, space=space, own_px=own_px, cdf=cdf, n_px=n_px,
+                                                   blades=blades, combined=combined, colour=colour), range(n))
         contrast = [None] * n
 
         def contrast_of(e, labs=labs, steps_kept=steps_kept):
@@ -402,6 +376,11 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
             report(step / steps, f"layer {name}: residual of exemplar {e + 1}/{n}")
             step += 1
             masks.append(m)
+            moved = m & taken[e]
+            if moved.any():
+                # Marks given back by their shape (:func:`_claims`) leave the layers above.
+                for above in out:
+                    above.masks[e] = above.masks[e] & ~moved
             taken[e] = taken[e] | m
             # In turn: the patch quilting of wide parts draws from one generator, exemplar after exemplar.
             new_residual.append(remove_layer(residual[e], blades[e], gone, rng=rng))
@@ -428,177 +407,31 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
     return out, residuals, space
 
 
-#: An exemplar's own (unmatched) colours may add to what the matched ones find while the layer
-#: then covers at most this many times the training layer's share of the blade (:func:`_own_colours`).
-OWN_COLOURS_MAX = 3.0
+#: A scattered layer's edges and the marks the layers above took (:func:`induce`) are decided by the
+#: pixels' own colour only where that colour alone reproduces the user's layer on the training leaf at
+#: least this well (IoU of :func:`~branchnb.leaves.induction_scatter.layer_coloured` with it).
+MARKS_SINGLED = 0.5
 
 
-def _own_colours(colour, combined, delta, residual, blades, t, user, cdf, own_px, space, n_px, params, *,
-                 counted=None):
-    """``colour`` with each exemplar's colour term the better of its matched and its own colours.
-
-    Beyond the paper (issue 22): matching each blade's colour statistics
-    onto the training leaf's (``params.match_colours``) lets leaves whose
-    overall hue differs compare by pattern, but it assumes a layer's colour
-    moves with its blade's. Spots or marks of one fixed colour on blades of
-    differing shade break that: on a darker birch-like leaf with more spots
-    the match moved the spots' colour 30 Lab units away and not one spot
-    was found (IoU 0.92 in its own colours -> 0.00); on a lighter one a third
-    (0.31). Each exemplar's term is therefore the lower (more similar) of
-    the two, unless the own colours would make the layer cover more than
-    :data:`OWN_COLOURS_MAX` times the training layer's share of the blade
-    (a blade whose own colour is the layer's would otherwise be taken
-    whole: the case matching is for). Not for thin layers (veins): they
-    follow each exemplar's own ridges and colour model
-    (:func:`_under_induced`).
-    """
-    share_t = float(user.sum()) / max(float(blades[t].sum()), 1.0)
-    w = space.weights if params.lab_units else None
-    out = colour
-    for e in range(len(colour)):
-        if e == t:
-            continue
-        q_own = _quantise_lab(_lab(residual[e]), space)
-        own = colour_similarity(q_own, blades[e] if counted is None else counted[e],
-                                _own_cdf(q_own, own_px[e], cdf, space.bins), n_px, weights=w)
-        better = np.minimum(colour[e], own)
-        # D = lambda F + S: lowering S lowers D by as much (F grows as S falls, but lambda ~ 0 here)
-        got = float(((combined[e] < delta) & blades[e]).sum())
-        found = float(((combined[e] - colour[e] + better < delta) & blades[e]).sum())
-        if got < found <= OWN_COLOURS_MAX * share_t * float(blades[e].sum()):
-            out = list(out) if out is colour else out
-            out[e] = better.astype(np.float32)
-    return out
+def _iou(a, b) -> float:
+    return float(np.count_nonzero(a & b)) / max(float(np.count_nonzero(a | b)), 1.0)
 
 
-#: An exemplar whose ``{D < delta}`` under the training leaf's colour model
-#: covers less than this share of the area the layer should cover there
-#: (the training layer's area scaled by the blades' areas) takes its own
-#: colour model (:func:`_under_induced`).
-UNDER_INDUCED = 0.5
-
-
-def _under_induced(q, blades, t, user, cdf, own_px, ridge_px, dist, lengths, tolerance, params,
-                   registrations, space, n_px):
-    """``own_px`` with the exemplars the training colour model under-induces on given their own pixels.
-
-    A vein plays the same role on every leaf but its colour is the leaf's
-    own. Where the contrast test (:func:`_other_colour`) takes two colours
-    for one (red and dark-green veins both stand out darker, and after the
-    blade statistics are matched the dark veins' contrast turns within
-    0.95 of the red ones'), the training leaf's colour model finds a third
-    of the exemplar's veins (procedural red -> dark: IoU 0.05-0.20). Such
-    an exemplar's ``{D < delta}`` (training model and ``delta``) covers
-    under :data:`UNDER_INDUCED` of the area the layer should take on it;
-    it then takes the colour model of its own layer pixels (beyond the
-    paper). Deciding by the colour term at the exemplar's ridge pixels
-    instead fired on same-coloured lobed and trilobed leaves
-    (``_measure_colours`` notes): their induced area is never that short.
-    """
-    n = len(blades)
-    if not _long_network(user, blades[t]):
-        return own_px
-    todo = [e for e in range(n) if e != t and own_px[e] is None and ridge_px[e] is not None
-            and ridge_px[e].sum() >= 10]
-    if not todo:
-        return own_px
-    w = space.weights if params.lab_units else None
-    colour = [colour_similarity(q[e], blades[e], cdf, n_px, weights=w) for e in range(n)]
-    _, _, combined, delta, _ = _combine(colour, dist, lengths, tolerance, params, blades, registrations, t, user)
-    out = list(own_px)
-    area_t = float(user.sum()) / max(float(blades[t].sum()), 1.0)
-    for e in todo:
-        expected = area_t * float(blades[e].sum())
-        got = float(((combined[e] < delta) & blades[e]).sum())
-        if got < UNDER_INDUCED * expected:
-            out[e] = ridge_px[e]
-    return out
-
-
-def _long_network(user, blade, *, share: float = 1.0) -> bool:
-    """Whether ``user`` holds one connected piece whose skeleton is at least ``share`` of the leaf size long.
-
-    A vein system does; small spots (thin enough for :func:`~branchnb.leaves.snapping.is_thin_layer`)
-    do not, and their area varies from leaf to leaf, so no exemplar's spots
-    count as under-induced (procedural trilobed, spots 0.68 -> 0.01 IoU without this; a
-    cluster of spots had a skeleton 0.3 of the leaf size long, a vein system's is several).
-    """
-    from skimage.morphology import skeletonize
-    lab, n = ndi.label(user, structure=np.ones((3, 3)))
-    if n == 0:
-        return False
-    length = np.bincount(lab[skeletonize(user)], minlength=n + 1)[1:]
-    return float(length.max()) >= share * np.sqrt(float(blade.sum()))
-
-
-#: Below this training overlap the colour term does not tell a thin layer
-#: from the blade (faint 1-2 px maple veins: 0.3-0.45; procedural and drawn
-#: veins: 0.75-0.9), and a snapped layer is induced from its ridges alone.
-COLOUR_RELIABLE = 0.5
-
-
-def _induced(combined, delta, training_overlap, snapped, e, blade, taken, *, centred=None, over: bool = False):
-    """The induced layer on exemplar ``e``: ``{D < delta}``, with a thin layer's snapped ridges.
-
-    Where the colour term reproduces the user's layer on the training leaf
-    (training overlap at least :data:`COLOUR_RELIABLE`), the paper's layer,
-    its ``||x, c||`` measured to the carried-over layer and the snapped main
-    structure (adding the snapped paths themselves lowered the IoU with the
-    truth on procedural leaves, 0.77 -> 0.70: their widths are the training
-    leaf's); where it does not, the snapped structure alone (``{D < delta}``
-    is then mostly blade of the layer's colour: measured on the sample
-    maples with their hand-traced veins, mean IoU 0.30 with it, 0.34 without).
-    With the colour term, the ``centred`` snapped pixels next to ``{D < delta}``
-    (one pixel) join it: the snapped paths, grown to their vein's side and
-    width (:func:`~branchnb.leaves.snapping_width._grow_to_width`), fill the pixels the
-    colour term left beside its thin veins (procedural elliptic 192 px,
-    training leaf 2 -> exemplar 3, seed 2: IoU 0.64 -> 0.70); all of them
-    (a union) added the off-vein paths too (lobed 192 px 0.81 -> 0.80).
-    ``over`` (:func:`_over_induced`): the colour term takes most of this exemplar's blade, the
-    snapped structure alone is induced there too (beyond the paper).
-    """
-    m = (combined < delta) & blade & ~taken
-    if snapped is None or snapped[e] is None:
-        return m
-    if training_overlap < COLOUR_RELIABLE or over:
-        return snapped[e] & ~taken
-    # The snapped paths (grown to the side their vein lies) where they run
-    # beside {D < delta}: the colour term, averaged over a neighbourhood,
-    # puts a thin vein's pixels one pixel off along whole side veins.
-    if centred is None or centred[e] is None:
-        return m
-    return m | (centred[e] & blade & ~taken & _binary_dilation(m))
-
-
-#: A thin layer's ``{D < delta}`` covering more than this many times the area the layer should take
-#: on an exemplar (the training layer's share of its blade) is no layer: the colour term does not
-#: tell it from the blade there (:func:`_over_induced`).
-OVER_INDUCED = 4.0
-
-
-def _over_induced(combined, delta, blade, user, blade_t) -> bool:
-    """Whether ``{D < delta}`` takes over :data:`OVER_INDUCED` times the layer's expected area on this blade.
-
-    A drawn leaf's one-pixel veins of another hue (yellow on an orange
-    fill, 640 px) are antialiased into the fill: the colour histograms of
-    the vein pixels and of the fill overlap and ``{D < delta}`` covered
-    77-93 % of every exemplar's blade; what was left after the contrast trim
-    was a few dots (10-566 px of ~2000). The snapped paths found the veins
-    there; they alone are induced then, as when the colour term fails on
-    the training leaf itself (:data:`COLOUR_RELIABLE`). Beyond the paper.
-    """
-    expected = float(np.count_nonzero(user)) / max(float(np.count_nonzero(blade_t)), 1.0) * float(
-        np.count_nonzero(blade))
-    return float(np.count_nonzero((combined < delta) & blade)) > OVER_INDUCED * max(expected, 1.0)
-
-
-def _matched_lab(image, stats, e, t, params, lab=None):
-    """CIELAB of exemplar ``e``'s ``image`` (``lab`` when converted already), moved onto the training leaf's
-    blade statistics (colour matching on)."""
-    lab = _lab(image) if lab is None else lab
-    if params.match_colours and e != t:
-        lab = (lab - stats[e][0]) / stats[e][1] * stats[t][1] + stats[t][0]
-    return lab
+def _claims(before, e, *, t, taken, stats, params, space, own_px, cdf, n_px, blades, combined, colour):
+    """A scattered layer's ``D`` on exemplar ``e`` read on ``before[e]``, the residual the layers above
+    were read on, where they took it (a one-map :class:`~branchnb.leaves.stored_maps.BoxedMaps`, ``inf``
+    elsewhere; None on the training leaf and where they took nothing), for
+    :func:`~branchnb.leaves.induction_scatter.reclaim_marks`."""
+    if e == t or not taken[e].any():
+        return None
+    q = _quantise_lab(_matched_lab(before[e], stats, e, t, params), space)
+    s = colour_similarity(q, blades[e], _own_cdf(q, own_px[e], cdf, space.bins), n_px,
+                          weights=space.weights if params.lab_units else None)
+    # D = lambda F + S: the same spatial part, the colour term read before the removal. Only what was
+    # taken is read (:func:`~branchnb.leaves.induction_scatter.reclaim_marks`): kept on its box.
+    where = taken[e] & blades[e]
+    d = np.where(where, np.asarray(combined[e]) - np.asarray(colour[e]) + s, np.inf).astype(np.float32)
+    return BoxedMaps([d], [where], np.inf)
 
 
 def _ridge_extension(residual, blades, t, e, user, m, stats, params, *, level: float = 0.2,
@@ -633,171 +466,3 @@ def _ridge_extension(residual, blades, t, e, user, m, stats, params, *, level: f
     ev = ridge_evidence(lab_of(e), blades[e], direction, max(1.0, layer_width(user)))
     steps = max(1, int(round(reach * np.sqrt(float(blades[e].sum())))))
     return ndi.binary_dilation(m, iterations=steps, mask=(ev >= level) & blades[e]) | m
-
-
-#: An exemplar's layer has another colour than the training leaf's when its
-#: contrast with the blade around it turns from the training layer's by more
-#: than this (cosine below; 3 procedural kinds, pale / red / dark veins at
-#: 192 px: same colours 0.93-1.00, other colours -0.6-0.9).
-SAME_CONTRAST = 0.95
-
-
-def _unmatched(stats, e, t, params):
-    """Per-channel factor taking a colour difference on exemplar ``e`` back from the training leaf's
-    statistics to its own (None without colour matching)."""
-    if not params.match_colours or e == t:
-        return None
-    return np.asarray(stats[e][1], np.float64) / np.maximum(np.asarray(stats[t][1], np.float64), 1e-6)
-
-
-def _other_colour(labs, t, user, blade_t, e, pixels, blade_e=None, *, scale=None):
-    """Whether exemplar ``e``'s layer ``pixels`` stand out from their blade in another colour than ``user``.
-
-    ``scale`` (:func:`_unmatched`) compares the two contrasts in each
-    leaf's own CIELAB: matched onto the training leaf's statistics, a red
-    training leaf's wide spread of ``a*`` shrank a dark-green vein's
-    contrast onto the red one's (cosine 0.87-0.98 matched, 0.47-0.49 in
-    their own colours; same-coloured procedural leaves 0.99-1.00 either
-    way), and the dark veins were induced with the red veins' colour model
-    (procedural lobed dark -> red: IoU 0.49 -> 0.71).
-    """
-    if pixels is None or pixels.sum() < 10:
-        return False
-    c_t = _contrast(labs[t], user, blade_t)
-    c_e = _contrast(labs[e], pixels, np.ones(pixels.shape, bool) if blade_e is None else blade_e)
-    if c_t is None or c_e is None:
-        return False
-    if scale is not None:
-        c_e = c_e * np.asarray(scale, c_e.dtype)
-    cos = float(c_t @ c_e) / max(float(np.linalg.norm(c_t) * np.linalg.norm(c_e)), 1e-9)
-    return cos < SAME_CONTRAST
-
-
-#: An exemplar whose blade holds at least this share of the training layer's
-#: area share in the training layer's own colour keeps the training colour model.
-LAYER_COLOUR_PRESENT = 0.5
-
-
-def _has_layer_colour(labs, t, user, blade_t, e, pixels, blade_e) -> bool:
-    """Whether exemplar ``e``'s own layer ``pixels`` turn lightness while its blade carries the layer's colour.
-
-    The exemplar's own contrast direction (:func:`_other_colour`,
-    :func:`branchnb.leaves.own_contrast.exemplar_direction`) is for veins of
-    another colour. Where it stands out the other way in lightness than
-    the training layer (lighter against darker) although the training
-    layer's colour is there over a comparable share of the blade (within a
-    third of the layer's contrast with its blade), the training colour is
-    the layer and the own direction found something else: on a drawn maple
-    sketch whose ink is the layer, the white paper between brush strokes
-    was induced instead of the black ink (IoU with the ink 0.94 -> 0.00).
-    Pale -> dark veins (the pale colour absent) and red -> dark (no turn
-    in lightness) keep their own direction.
-    """
-    if e == t or pixels is None or pixels.sum() < 10:
-        return False
-    c_t = _contrast(labs[t], user, blade_t)
-    c_e = _contrast(labs[e], pixels, blade_e)
-    if c_t is None or c_e is None or float(c_t[0]) * float(c_e[0]) >= 0:
-        return False
-    colour = np.median(labs[t][user], axis=0)
-    tol = max(float(np.linalg.norm(c_t)) / 3.0, 1e-6)
-    close = (np.linalg.norm(labs[e] - colour, axis=-1) < tol) & blade_e
-    share_t = float(user.sum()) / max(float(blade_t.sum()), 1.0)
-    share_e = float(close.sum()) / max(float(blade_e.sum()), 1.0)
-    return share_e >= LAYER_COLOUR_PRESENT * share_t
-
-
-def _own_delta(combined, delta, pixels, blade):
-    """``delta`` for one exemplar: the training leaf's, or larger where its own layer pixels need it.
-
-    The paper's ``delta`` is chosen on the training leaf; where the
-    exemplar's layer matches its colour model less closely (another vein
-    colour, a re-estimated model), ``{D < delta}`` kept only its midrib
-    (procedural pale -> dark veins: combined ``D`` 0.17 on its veins, 0.28
-    off them, ``delta`` 0.16). Chosen the same way (eq. 4) against the
-    exemplar's own layer pixels (:func:`branchnb.leaves.own_contrast.exemplar_direction`),
-    never below the training leaf's.
-    """
-    if pixels is None or pixels.sum() < 10:
-        return delta
-    return max(float(delta), choose_threshold(combined, pixels, blade)[0])
-
-
-def _own_cdf(q, pixels, cdf, bins):
-    """An exemplar's colour model of the layer: the training leaf's, or re-estimated from its own layer ``pixels``."""
-    if pixels is None or pixels.sum() < 10:
-        return cdf
-    return layer_cdfs(q, pixels, bins)
-
-
-#: Share of the training leaf's colour matches (``S_t`` under the liberal threshold) that must be the
-#: user's layer for a scattered layer's positional tie to be dropped (:func:`_combine`).
-SINGLES_OUT = 0.5
-
-
-def _combine(colour, dist, lengths, tolerance, params, blades, registrations, t, user):
-    """Eqs. 2-4 from the colour terms and distance maps: ``lambda``, ``D`` per exemplar, ``delta``.
-
-    Beyond the paper (issue 22): ``lambda`` is 0 for marks at random places
-    (:mod:`~branchnb.leaves.induction_scatter`): the user's layer is
-    scattered small marks (:func:`~branchnb.leaves.induction_scatter.scattered_layer`;
-    a vein network never is, so veins keep the paper's ``lambda``) and the
-    exemplars' pixels of its colour sit no nearer the registered layer than
-    chance (:func:`~branchnb.leaves.induction_scatter.positional_tie` under
-    :data:`~branchnb.leaves.induction_scatter.TIE_LEVEL`): a chance overlap
-    of a few marks is no positional tie. Only while the layer's colour
-    singles it out on the training leaf (at least :data:`SINGLES_OUT` of
-    the pixels with ``S_t`` under the liberal threshold are the user's
-    layer); else its place is all it has.
-    """
-    liberal_t, spat = [], []
-    for e in range(len(colour)):
-        eps_px, _, lib_r = lengths[e]
-        lib = liberal_layer(colour[e], dist[e], params.liberal_threshold, max(lib_r, tolerance), blades[e])
-        lib_t = lib if e == t else _liberal_to_training(registrations[e], lib)
-        liberal_t.append(lib_t & blades[t])
-        spat.append(spatial_term(dist[e], colour[e], eps_px))
-    lam, overlap = layer_weight(liberal_t, params.kappa)
-    match_t = (np.asarray(colour[t]) < params.liberal_threshold) & blades[t]
-    if lam > 0 and (match_t & user).sum() >= SINGLES_OUT * match_t.sum() and scattered_layer(user, blades[t]):
-        # Only where the layer's colour singles it out on the training leaf: marks of nearly the blade's
-        # colour (the sample maple_leaf_01's 36-px spots: lambda 0.8, tie 0.003) have only their place to go
-        # by. The tie is measured within the liberal radius widened to the registration error, as the
-        # liberal layers are.
-        radii = [max(ln[2], tolerance) for ln in lengths]
-        tie = positional_tie([np.asarray(colour[e]) < params.liberal_threshold for e in range(len(colour))],
-                             [np.asarray(dist[e]) for e in range(len(dist))], blades, t, radii)
-        if tie < TIE_LEVEL:
-            lam = 0.0
-    combined = [(np.float32(lam) * f + s).astype(np.float32) for f, s in zip(spat, colour)]
-    delta, tr_iou = choose_threshold(combined[t], user, blades[t])
-    return lam, overlap, combined, delta, tr_iou
-
-
-#: Liberal layers carried into the training frame, by registration and mask
-#: digest: a slider move (kappa always, eps while the registration error
-#: bounds the liberal radius) leaves most of them as they were, and their
-#: warp was half of a 1 MP preview.
-_LIBERAL_CACHE: dict = {}
-
-
-def _liberal_to_training(registration, lib):
-    """``warp_mask(registration, lib, to_training=True)``, reusing the last results for the same mask."""
-    import hashlib
-    import weakref
-    lib = np.ascontiguousarray(lib, bool)
-    key = (id(registration), lib.shape, hashlib.blake2b(np.packbits(lib).tobytes(), digest_size=16).digest())
-    hit = _LIBERAL_CACHE.get(key)
-    if hit is not None and hit[0]() is registration:
-        return hit[1].copy()
-    out = warp_mask(registration, lib, to_training=True)
-    try:
-        ref = weakref.ref(registration)  # the cache does not keep a registration alive
-    except TypeError:
-        return out
-    if len(_LIBERAL_CACHE) >= 32:
-        _LIBERAL_CACHE.pop(next(iter(_LIBERAL_CACHE)))
-    _LIBERAL_CACHE[key] = (ref, out.copy())
-    return out
-
-

@@ -1,7 +1,7 @@
 """The step from a layer's ``D`` to its induced mask on each exemplar, one code path for
 :func:`~branchnb.leaves.analysis_induce.induce` (so :meth:`~branchnb.leaves.analysis.LeafAnalysis.reinduce`)
 and the slider preview :meth:`~branchnb.leaves.analysis.LeafAnalysis.retune`: ``{D < delta}`` with the
-snapped paths (:func:`~branchnb.leaves.analysis_induce._induced`), the exemplar's own ``delta`` beside
+snapped paths (:func:`~branchnb.leaves.analysis_combine._induced`), the exemplar's own ``delta`` beside
 its own layer pixels, the contrast trim, and a thin layer's outline / ink-zone / hole-rim / speck trimming
 (:func:`~branchnb.leaves.analysis_trim._trimmed`). The preview skipped the last three and the own
 ``delta``: on the sample maples (training leaf 01, ``liberal_threshold=0.3``) it showed 242 and 434 vein
@@ -26,7 +26,12 @@ class _MaskSteps:
     ``own`` each exemplar's own contrast direction, ``own_px``/``ridge_px`` its own layer pixels,
     ``zones``/``rims`` its ink outline zone and hole rims, ``outline_in_layer``/``inked_outline`` the
     training leaf's outline flags (:func:`~branchnb.leaves.analysis_trim._trimmed`); ``colours`` the
-    colour terms ``S_e`` of every neighbourhood the induction tried (side -> maps, in its order).
+    colour terms ``S_e`` of every neighbourhood the induction tried (side -> maps, in its order);
+    ``claims`` a scattered layer's ``D`` per exemplar read before the layers above were removed, where
+    they took it (one-map :class:`~branchnb.leaves.stored_maps.BoxedMaps`; None where nothing was
+    taken), for the marks they took (:func:`~branchnb.leaves.induction_scatter.reclaim_marks`);
+    ``coloured`` its pixels of the layer's colour per exemplar, deciding the marks' edges
+    (:func:`~branchnb.leaves.induction_scatter.refine_edges`).
     """
 
     user: np.ndarray
@@ -42,6 +47,8 @@ class _MaskSteps:
     outline_in_layer: bool
     inked_outline: bool
     colours: dict | None = None
+    claims: list | None = None
+    coloured: list | None = None
 
 
 def _contrast_map(lab_t, lab_e, steps: _MaskSteps, e: int) -> np.ndarray:
@@ -62,7 +69,8 @@ def _exemplar_mask(steps: _MaskSteps, e: int, combined_e, delta: float, tr_iou: 
     ``taken_e`` what the layers above took there, ``contrast_of(e)`` the contrast map when needed
     (:func:`_contrast_map`; computed only then).
     """
-    from .analysis_induce import COLOUR_RELIABLE, _induced, _over_induced, _own_delta
+    from .analysis_combine import COLOUR_RELIABLE, _induced, _over_induced
+    from .analysis_own import _own_delta
     from .analysis_trim import _trimmed
     from .own_contrast import trim_by_contrast, without_blobs
     s, t = steps, steps.t
@@ -102,4 +110,11 @@ def _exemplar_mask(steps: _MaskSteps, e: int, combined_e, delta: float, tr_iou: 
     if s.snapped is not None:
         m = _trimmed(m, blade, s.user, s.snapped[e], s.zones[e], s.rims[e], outline_in_layer=s.outline_in_layer,
                      inked_outline=s.inked_outline)
+    if s.coloured is not None and s.coloured[e] is not None:
+        from .induction_scatter import refine_edges
+        m = refine_edges(m, s.coloured[e], blade & ~taken_e)
+    if s.claims is not None and s.claims[e] is not None:
+        # Marks the layers above took by their colour come back where their shape is a mark's.
+        from .induction_scatter import reclaim_marks
+        m = m | reclaim_marks((np.asarray(s.claims[e][0]) < delta) & blade, m, taken_e, s.user)
     return m, contrast

@@ -22,7 +22,8 @@ def _snapped(residual, blades, t, user, registrations, stats, tolerance, params,
     the exemplar's hole rims (:func:`~branchnb.leaves.snapping_stray._hole_rim`), no vein
     (:data:`~branchnb.leaves.analysis_trim.RIM_TRIM`).
     """
-    from .analysis_induce import _matched_lab, warp_mask
+    from .analysis_combine import warp_mask
+    from .analysis_own import _matched_lab
     from .induction import layer_width
     from .own_contrast import exemplar_direction
     from .snapping import contrast_direction, is_thin_layer, snap_to_exemplars

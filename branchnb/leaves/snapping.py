@@ -187,7 +187,7 @@ pixel on 1.7 px veins, precision 0.60). Grown instead by the exemplar's
 own contrast (up to :data:`GROW_CAP` widths, pixels standing out at least
 :data:`GROW_LEVEL` as much as the path), precision 0.93; these
 ``centred`` paths join the colour term's layer beside it
-(:func:`branchnb.leaves.analysis_induce._induced`). ``_measure snapping
+(:func:`branchnb.leaves.analysis_combine._induced`). ``_measure snapping
 --seeds 3``, min / mean per kind and size, before -> after: lobed 192
 0.74/0.81 -> 0.75/0.82, 384 0.70/0.84 -> 0.74/0.85; trilobed 192
 0.66/0.79 -> 0.71/0.80, 384 0.67/0.82 -> 0.75/0.84; elliptic 192
