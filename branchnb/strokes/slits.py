@@ -281,3 +281,81 @@ def _joint_zones(shape, disks, width: float) -> np.ndarray:
         yy, xx = np.mgrid[r0:r1, c0:c1]
         zones[r0:r1, c0:c1] |= (xx - cx) ** 2 + (yy - cy) ** 2 <= g * g
     return zones
+
+
+#: Widest slit (px) of the source that :func:`_carried_slits` follows onto the result (a
+#: closing by a disc of half this radius finds it).
+_CARRIED_SLIT = 4
+#: A source pixel is open in a slit below this alpha.
+_SLIT_OPEN = 0.9
+
+
+def _source_slits(source_alpha: np.ndarray) -> np.ndarray | None:
+    """Open pixels (alpha < :data:`_SLIT_OPEN`) of the source's slits at most
+    :data:`_CARRIED_SLIT` px wide (inside its silhouette's closing), as float32, or None
+    when it has none."""
+    from .parts import _closed_by_disk
+
+    obj = source_alpha > 0.5
+    r = _CARRIED_SLIT // 2
+    closed = _closed_by_disk(np.pad(obj, r + 1), r)[r + 1:-r - 1, r + 1:-r - 1]
+    slit = closed & (source_alpha < _SLIT_OPEN)
+    return slit.astype(np.float32) if slit.any() else None
+
+
+def _carried_slits(index, labels: np.ndarray, placed: list, alpha: np.ndarray) -> np.ndarray | None:
+    """Result pixels whose source place (through the patch that laid them) lies in one of the
+    source's own slits (:func:`_source_slits`): a notched petal's notch wherever the petal was
+    turned or moved; only where the slit opens onto the background round the object in the
+    result's ``alpha`` (and the pixel beside that): a stretch of a slit closed off
+    (a notch's tapering inner end, in pieces) is a pinhole, still filled. None when the
+    source has no slit or no pixel lands in one.
+
+    Beyond the papers (strokes40): the hairline and pinhole passes knew a source's own slits
+    only where the result's frame is the source's (the same pixel), so a turned petal's
+    notch, a one-pixel line between opaque sides, was closed like a hairline (of 20 gaps of
+    a flower whose notched head is turned, 12 were closed).
+    """
+    from .outline import source_depth
+
+    slits = index.__dict__.get("_slits", False)
+    if slits is False:
+        slits = _source_slits(index.premult[:, :, 3])
+        index.__dict__["_slits"] = slits
+    if slits is None:
+        return None
+    got = source_depth(labels, [pp.source_map for pp in placed], slits) > 0.5
+    if not got.any():
+        return None
+    lab, _ = ndi.label(alpha < 0.5)
+    outside = np.unique(np.r_[lab[0], lab[-1], lab[:, 0], lab[:, -1]])
+    open_ = np.isin(lab, outside[outside > 0])
+    got &= ndi.binary_dilation(open_ & got, structure=_EIGHT)
+    return got if got.any() else None
+
+
+def _fill_closed_off(layer: np.ndarray, carried: np.ndarray | None, width: float) -> np.ndarray:
+    """``layer`` with the background pockets (alpha < 0.5, 4-connected) of at most
+    ``(2 width + 2) ** 2`` px that touch ``carried`` (:func:`_carried_slits`) and no longer
+    reach the background round the object made opaque (the nearest opaque pixel's colour):
+    the stretches of a carried slit the later closings shut off, pinholes otherwise."""
+    if carried is None:
+        return layer
+    lab, n = ndi.label(layer[..., 3] < 0.5)
+    if n < 2:
+        return layer
+    size = np.bincount(lab.ravel(), minlength=n + 1)
+    outside = np.unique(np.r_[lab[0], lab[-1], lab[:, 0], lab[:, -1]])
+    small = size <= (2.0 * float(width) + 2.0) ** 2
+    small[outside] = False
+    small[0] = False
+    touch = np.zeros(n + 1, bool)
+    touch[np.unique(lab[ndi.binary_dilation(carried, structure=_EIGHT)])] = True
+    hole = (small & touch)[lab]
+    if not hole.any():
+        return layer
+    out = layer.copy()
+    _, (iy, ix) = ndi.distance_transform_edt(layer[..., 3] < 0.98, return_indices=True)
+    out[hole, :3] = layer[iy[hole], ix[hole], :3]
+    out[hole, 3] = 1.0
+    return out
