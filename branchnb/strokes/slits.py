@@ -297,10 +297,19 @@ def _source_slits(source_alpha: np.ndarray) -> np.ndarray | None:
     from .parts import _closed_by_disk
 
     obj = source_alpha > 0.5
+    rows, cols = np.flatnonzero(obj.any(axis=1)), np.flatnonzero(obj.any(axis=0))
+    if not len(rows):
+        return None
+    # (on the object's box: the closing adds nothing beyond it)
+    box = (slice(rows[0], rows[-1] + 1), slice(cols[0], cols[-1] + 1))
     r = _CARRIED_SLIT // 2
-    closed = _closed_by_disk(np.pad(obj, r + 1), r)[r + 1:-r - 1, r + 1:-r - 1]
-    slit = closed & (source_alpha < _SLIT_OPEN)
-    return slit.astype(np.float32) if slit.any() else None
+    closed = _closed_by_disk(np.pad(obj[box], r + 1), r)[r + 1:-r - 1, r + 1:-r - 1]
+    slit = closed & (source_alpha[box] < _SLIT_OPEN)
+    if not slit.any():
+        return None
+    out = np.zeros(source_alpha.shape, np.float32)
+    out[box] = slit
+    return out
 
 
 def _carried_slits(index, labels: np.ndarray, placed: list, alpha: np.ndarray) -> np.ndarray | None:
@@ -316,15 +325,31 @@ def _carried_slits(index, labels: np.ndarray, placed: list, alpha: np.ndarray) -
     notch, a one-pixel line between opaque sides, was closed like a hairline (of 20 gaps of
     a flower whose notched head is turned, 12 were closed).
     """
-    from .outline import source_depth
-
     slits = index.__dict__.get("_slits", False)
     if slits is False:
         slits = _source_slits(index.premult[:, :, 3])
         index.__dict__["_slits"] = slits
     if slits is None:
         return None
-    got = source_depth(labels, [pp.source_map for pp in placed], slits) > 0.5
+    # (only pixels short of opaque can be a slit's: the object's inside is not looked up)
+    h, w = labels.shape
+    idx = np.flatnonzero((alpha < _SLIT_OPEN).ravel() & (labels.ravel() >= 0))
+    lab = labels.ravel()[idx]
+    order = np.argsort(lab, kind="stable")
+    idx, lab = idx[order], lab[order]
+    bounds = np.searchsorted(lab, np.arange(len(placed) + 1))
+    got = np.zeros(h * w, bool)
+    for i, pp in enumerate(placed):
+        sub = idx[bounds[i]:bounds[i + 1]]
+        m = pp.source_map
+        if not len(sub) or m is None:
+            continue
+        ys, xs = np.divmod(sub, w)
+        sx = m[0, 0] * xs + m[0, 1] * ys + m[0, 2]
+        sy = m[1, 0] * xs + m[1, 1] * ys + m[1, 2]
+        # (bilinear: a turned notch's middle falls between the source's pixels)
+        got[sub] = ndi.map_coordinates(slits, [sy, sx], order=1, mode="nearest") > 0.5
+    got = got.reshape(h, w)
     if not got.any():
         return None
     lab, _ = ndi.label(alpha < 0.5)
