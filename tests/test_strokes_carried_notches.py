@@ -7,7 +7,8 @@ its root. Every answer is known: each notch moved by its petal's rigid map must
 stay open (alpha < 0.5 along its middle), the result has no pinholes. Before,
 the petal's stroke, centred onto one prong of its notched tip, bent, and its
 patches turned 0.06-0.48 rad where 0.25 was asked; the hairline pass closed the
-rest (of 20 gaps of the turned head 12 closed; notches open 0-2 of 6).
+rest, and the slit pass a notch whose mouth a rim-crack closing had shut (of 20 gaps
+of the turned head 12 closed; notches open 0 of 6).
 """
 
 from __future__ import annotations
@@ -66,9 +67,9 @@ def _pinholes(alpha):
     return sum(1 for i in range(1, n + 1) if i not in edge and size[i] < 10)
 
 
-@pytest.mark.parametrize("size,th,least", [(256, 0.3, 5), (256, -0.3, 5), (400, 0.3, 4)])
-def test_a_turned_heads_notches_stay_open(size, th, least):
-    # (main: 0 of 6 open at 256 and 400 px, 5 pinholes at 400; now 6, 6 and 4)
+@pytest.mark.parametrize("size,th", [(256, 0.3), (256, -0.3), (400, 0.3)])
+def test_a_turned_heads_notches_stay_open(size, th):
+    # (main: 0 of 6 open at 256 and 400 px, 5 pinholes at 400; now 6 of 6)
     obj, img, mids = _notched(size)
     about = obj.strokes[4][0]
     parts = [obj.strokes[k] for k in range(3, 10)]  # the head and its six petals
@@ -77,7 +78,7 @@ def test_a_turned_heads_notches_stay_open(size, th, least):
     moves = {k: (_rot(th), about - _rot(th) @ about) for k in mids}
     assert _open_notches(img[..., 3], mids, {}) == 6
     a = edit_structure(img, src, tgt).image[..., 3]
-    assert _open_notches(a, mids, moves) >= least
+    assert _open_notches(a, mids, moves) >= 5
     assert _pinholes(a) == 0
 
 

@@ -315,9 +315,7 @@ def _source_slits(source_alpha: np.ndarray) -> np.ndarray | None:
 def _carried_slits(index, labels: np.ndarray, placed: list, alpha: np.ndarray) -> np.ndarray | None:
     """Result pixels whose source place (through the patch that laid them) lies in one of the
     source's own slits (:func:`_source_slits`): a notched petal's notch wherever the petal was
-    turned or moved; only where the slit opens onto the background round the object in the
-    result's ``alpha`` (and the pixel beside that): a stretch of a slit closed off
-    (a notch's tapering inner end, in pieces) is a pinhole, still filled. None when the
+    turned or moved (looked up where the result's ``alpha`` is short of opaque). None when the
     source has no slit or no pixel lands in one.
 
     Beyond the papers (strokes40): the hairline and pinhole passes knew a source's own slits
@@ -350,8 +348,16 @@ def _carried_slits(index, labels: np.ndarray, placed: list, alpha: np.ndarray) -
         # (bilinear: a turned notch's middle falls between the source's pixels)
         got[sub] = ndi.map_coordinates(slits, [sy, sx], order=1, mode="nearest") > 0.5
     got = got.reshape(h, w)
-    if not got.any():
+    return got if got.any() else None
+
+
+def _open_stretches(carried: np.ndarray | None, alpha: np.ndarray) -> np.ndarray | None:
+    """The pixels of ``carried`` (:func:`_carried_slits`) where the slit opens onto the
+    background round the object in ``alpha`` (and the pixel beside that): a stretch of a
+    slit closed off (a notch's tapering inner end, in pieces) is a pinhole, still closed."""
+    if carried is None:
         return None
+    got = carried.copy()
     lab, _ = ndi.label(alpha < 0.5)
     outside = np.unique(np.r_[lab[0], lab[-1], lab[:, 0], lab[:, -1]])
     open_ = np.isin(lab, outside[outside > 0])
