@@ -288,11 +288,15 @@ def _joint_zones(shape, disks, width: float) -> np.ndarray:
 _CARRIED_SLIT = 4
 #: A source pixel is open in a slit below this alpha.
 _SLIT_OPEN = 0.9
+#: Least background px of a source slit (a 2 px notch along a 256-px flower's petal ~30; the
+#: corner of a crotch the closing fills 1-8).
+_SLIT_LEAST = 16
 
 
 def _source_slits(source_alpha: np.ndarray) -> np.ndarray | None:
     """Open pixels (alpha < :data:`_SLIT_OPEN`) of the source's slits at most
-    :data:`_CARRIED_SLIT` px wide (inside its silhouette's closing), as float32, or None
+    :data:`_CARRIED_SLIT` px wide (background inside its silhouette's closing, in pieces of
+    at least :data:`_SLIT_LEAST` px, with their anti-aliased sides), as float32, or None
     when it has none."""
     from .parts import _closed_by_disk
 
@@ -304,9 +308,16 @@ def _source_slits(source_alpha: np.ndarray) -> np.ndarray | None:
     box = (slice(rows[0], rows[-1] + 1), slice(cols[0], cols[-1] + 1))
     r = _CARRIED_SLIT // 2
     closed = _closed_by_disk(np.pad(obj[box], r + 1), r)[r + 1:-r - 1, r + 1:-r - 1]
-    slit = closed & (source_alpha[box] < _SLIT_OPEN)
-    if not slit.any():
+    # a slit is long: a crotch's corner, which the closing also fills, holds a few px only
+    lab, n = ndi.label(closed & ~obj[box], structure=_EIGHT)
+    if n == 0:
         return None
+    size = np.bincount(lab.ravel(), minlength=n + 1)
+    core = (size >= _SLIT_LEAST)[lab] & (lab > 0)
+    if not core.any():
+        return None
+    # (with its anti-aliased sides)
+    slit = ndi.binary_dilation(core, structure=_EIGHT) & closed & (source_alpha[box] < _SLIT_OPEN)
     out = np.zeros(source_alpha.shape, np.float32)
     out[box] = slit
     return out
