@@ -1,10 +1,12 @@
-"""Junctions on multi-part objects beyond the twig and the figure: antlers and a coral (issue 25).
+"""Junctions on multi-part objects: antlers, a coral and the bent twig (issue 25).
 
 Antlers (:func:`~branchnb.strokes.procedural.antlers`): tines leave the beam at
 29-52 degrees; two are turned about their roots, one is copied to a new place
 on the beam, one nobody strokes. A coral (:func:`~branchnb.strokes.procedural.coral`):
 parts of parts; a branch is turned about its root (its sub-branch, unstroked,
-must turn with it) and a branch is copied to a new place on the trunk.
+must turn with it) and a branch is copied to a new place on the trunk. The twig
+(:func:`~branchnb.strokes._examples.twig_parts_edit`, shared with
+test_strokes_slit_mouths.py): bent, its leaves and fruits carried along, a leaf added.
 
 Every answer is known: each part's pixels moved by its rigid map must be
 opaque in the result, each child's target stroke runs through opaque pixels
@@ -18,6 +20,7 @@ import pytest
 from scipy import ndimage as ndi
 
 from branchnb.strokes import Stroke, edit_structure
+from branchnb.strokes._examples import twig_parts_edit
 from branchnb.strokes.procedural import antlers, coral
 
 EIGHT = np.ones((3, 3))
@@ -80,7 +83,13 @@ def _coral_edit(size):
     return obj, src, tgt, moves
 
 
-@pytest.mark.parametrize("make", [_antlers_edit, _coral_edit])
+def _twig_edit(size):
+    """The twig bent, its leaves and fruits carried along, a leaf added (the builder
+    test_strokes_slit_mouths.py shares)."""
+    return twig_parts_edit(size, add_leaf=True)
+
+
+@pytest.mark.parametrize("make", [_antlers_edit, _coral_edit, _twig_edit])
 @pytest.mark.parametrize("size", [200, 360])
 def test_parts_stay_attached_whole_and_clean(make, size):
     obj, src, tgt, moves = make(size)

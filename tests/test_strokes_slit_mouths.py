@@ -21,10 +21,10 @@ import pytest
 from scipy import ndimage as ndi
 
 from branchnb.strokes import Stroke, edit_structure
-from branchnb.strokes._examples import bent_spine
+from branchnb.strokes._examples import twig_parts_edit
 from branchnb.strokes.outline import _close_rim_cracks
-from branchnb.strokes.parts import _closed_by_disk, _opened_by_disk, carry_stroke
-from branchnb.strokes.procedural import figure, twig
+from branchnb.strokes.parts import _closed_by_disk, _opened_by_disk
+from branchnb.strokes.procedural import figure
 from branchnb.strokes.procedural_more import flower, hand
 
 EIGHT = np.ones((3, 3))
@@ -159,27 +159,11 @@ def _moved_missing(obj, part, rot, shift, alpha):
     return float((want & (alpha < 0.5)).sum() / max(int(want.sum()), 1))
 
 
-def _fit(a, b):
-    """The rotation and shift taking the points ``a`` onto ``b`` (least squares)."""
-    ma, mb = a.mean(axis=0), b.mean(axis=0)
-    u, _, vt = np.linalg.svd((a - ma).T @ (b - mb))
-    rot = (u @ vt).T
-    return rot, mb - rot @ ma
-
-
 @pytest.mark.parametrize("case", ["twig", "arm"])
 def test_multi_part_edits_stay_joined(case):
     size = 256
     if case == "twig":
-        obj = twig(size, rng=0)
-        spine = obj.strokes[0]
-        bent = bent_spine(spine, obj.image.shape[0])
-        src = [spine] + [obj.strokes[k] for k in range(1, 5)]
-        tgt = [bent] + [carry_stroke(obj.strokes[k], spine, bent) for k in range(1, 5)]
-        moves = {k: _fit(src[k], tgt[k]) for k in range(1, 5) if len(src[k]) > 2}
-        st = Stroke(bent)
-        src.append(obj.strokes[1])  # leaf 1 added near the twig's end
-        tgt.append(st.point_at(0.85 * st.length) + (tgt[1] - tgt[1][0]))
+        obj, src, tgt, moves = twig_parts_edit(size, add_leaf=True)  # leaf 1 added near the end
     else:
         obj = figure(size, rng=0)
         arm = obj.strokes[2]

@@ -12,6 +12,7 @@ import numpy as np
 from .. import data
 
 __all__ = ["LIZARD_TAIL", "rope_bend", "lizard_straighten", "tree_add_branch", "twig_five_parts",
+           "twig_parts_edit", "rigid_fit",
            "figure_limbs_turned", "EXAMPLES"]
 
 #: The lizard's tail, from the hips to the tip (``lizard`` image pixels).
@@ -66,16 +67,55 @@ def bent_spine(spine: np.ndarray, height: int, sag: float = 0.12) -> np.ndarray:
     return np.c_[spine[:, 0], 0.45 * height + sag * height * np.sin((spine[:, 0] - x0) / (x1 - x0) * np.pi)]
 
 
-def twig_five_parts(size: int = 1000):
-    """Bend a procedural twig and carry its two leaves and two fruits along with strokes (5 pairs)."""
+def rigid_fit(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The rotation ``R`` and shift ``t`` taking the points ``a`` onto ``b`` (least squares:
+    ``b ~ a @ R.T + t``)."""
+    ma, mb = a.mean(axis=0), b.mean(axis=0)
+    u, _, vt = np.linalg.svd((a - ma).T @ (b - mb))
+    rot = (u @ vt).T
+    return rot, mb - rot @ ma
+
+
+def twig_parts_edit(size: int = 1000, add_leaf: bool = False):
+    """A procedural twig bent with its two leaves and two fruits carried along by strokes.
+
+    Parameters
+    ----------
+    size : int
+        The twig's image size (px).
+    add_leaf : bool
+        Also add a copy of leaf 1 at 85 % of the bent twig (a sixth pair).
+
+    Returns
+    -------
+    obj : PartObject
+        The twig (:func:`~branchnb.strokes.procedural.twig`, seed 0) with its part labels.
+    src, tgt : list of (N, 2) ndarray
+        Source and target strokes for :func:`~branchnb.strokes.edit_structure`.
+    moves : dict
+        Part label -> ``(R, t)``, the rigid map ``x -> R x + t`` of every carried part
+        (its source stroke fitted onto its target stroke; strokes of two points left out).
+    """
     from .parts import carry_stroke
     from .procedural import twig
+    from .strokes import Stroke
 
     obj = twig(size, rng=0)
     spine = obj.strokes[0]
     bent = bent_spine(spine, obj.image.shape[0])
     src = [spine] + [obj.strokes[k] for k in range(1, 5)]
     tgt = [bent] + [carry_stroke(obj.strokes[k], spine, bent) for k in range(1, 5)]
+    moves = {k: rigid_fit(src[k], tgt[k]) for k in range(1, 5) if len(src[k]) > 2}
+    if add_leaf:
+        st = Stroke(bent)
+        src.append(obj.strokes[1])
+        tgt.append(st.point_at(0.85 * st.length) + (tgt[1] - tgt[1][0]))
+    return obj, src, tgt, moves
+
+
+def twig_five_parts(size: int = 1000):
+    """Bend a procedural twig and carry its two leaves and two fruits along with strokes (5 pairs)."""
+    obj, src, tgt, _ = twig_parts_edit(size)
     return obj.image, src, tgt, {}
 
 

@@ -11,7 +11,11 @@ its midpoint. A sample already in the middle 60 % of its run stays; one
 whose run is wider than 2.5 times the stroke's median run (the stroke
 crosses a body, a junction), crosses another source stroke (it belongs
 to that stroke's part) or reaches past the search distance moves with
-its neighbours on the stroke's own part. The offsets are smoothed along
+its neighbours on the stroke's own part. A sample lying in a slit at most 3 px wide
+with the object on both sides (a notch cut along a petal's axis, where the stroke runs)
+takes the run across the slit: before, it took one prong of the notched tip for the
+part, the stroke bent towards it and the turned petal's notch was filled (beyond the
+paper). The offsets are smoothed along
 the stroke, so the centred stroke
 keeps the user's course and only loses the sideways error. Strokes
 already within 1 px of the middle are left exactly as drawn.
@@ -29,6 +33,9 @@ __all__ = ["centre_stroke"]
 _STEP = 2.0
 #: Strokes whose sideways error stays below this (px) along 90 % of their length stay as drawn.
 _KEEP = 1.0
+#: A gap in the object at most this wide (px) that a sample lies in, with the object on both
+#: sides, is a slit of the part (a notch along a petal's axis), not its edge.
+_SLIT = 3.0
 
 
 def centre_stroke(mask: np.ndarray, points, *, others=(), reach: float | None = None) -> np.ndarray:
@@ -94,6 +101,14 @@ def centre_stroke(mask: np.ndarray, points, *, others=(), reach: float | None = 
         if hits.size == 0:
             continue
         c = centre if row[centre] else int(hits[np.argmin(np.abs(hits - centre))])
+        if not row[centre]:
+            lo, hi = hits[hits < centre], hits[hits > centre]
+            if lo.size and hi.size and 0.5 * (hi[0] - lo[-1] - 1) <= _SLIT:
+                # the stroke runs along a slit of its own part (a petal's notch cut along
+                # its axis): the slit is no edge, the part's two sides make the run
+                row = row.copy()
+                row[lo[-1]:hi[0]] = True
+                c = centre
         gaps = np.flatnonzero(~row)
         left = gaps[gaps < c]
         right = gaps[gaps > c]

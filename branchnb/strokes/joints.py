@@ -307,7 +307,8 @@ def hold_joint_bodies(layer: np.ndarray, source_premult: np.ndarray, source_dept
     return out, held
 
 
-def close_hairlines(layer: np.ndarray, zones, *, reach: int = 2) -> np.ndarray:
+def close_hairlines(layer: np.ndarray, zones, *, reach: int = 2,
+                    keep_open: np.ndarray | None = None) -> np.ndarray:
     """Close thin, partly transparent lines inside the object near the joints.
 
     Two anti-aliased edges meeting inside the object (a turned arm's edge
@@ -325,6 +326,9 @@ def close_hairlines(layer: np.ndarray, zones, *, reach: int = 2) -> np.ndarray:
         Centres ``(x, y)`` and radii of the discs to work in.
     reach : int
         How far (px) to look for the opaque sides.
+    keep_open : (H, W) bool ndarray, optional
+        Pixels left as they are: the source's own slits carried onto the result (a turned
+        petal's notch, see :func:`~branchnb.strokes.slits._carried_slits`).
 
     Returns
     -------
@@ -351,6 +355,8 @@ def close_hairlines(layer: np.ndarray, zones, *, reach: int = 2) -> np.ndarray:
         hit = _hairline(win[..., 3], reach)
         yy, xx = np.mgrid[r0:r1, c0:c1]
         hit &= (xx - cx) ** 2 + (yy - cy) ** 2 <= r * r
+        if keep_open is not None:
+            hit &= ~keep_open[r0:r1, c0:c1]
         if not hit.any():
             continue
         _, (iy, ix) = ndi.distance_transform_edt(win[..., 3] < 0.98, return_indices=True)

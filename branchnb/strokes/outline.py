@@ -41,7 +41,7 @@ from scipy import ndimage as ndi
 from ..core.distance import edt as _edt
 from ..core.distance import edt_boxed as _edt_boxed
 from ..core.morphology import _binary_dilation
-from .slits import _fill_lined, _select_slits
+from .slits import _fill_lined, _not_near, _select_slits
 
 __all__ = ["OutlineStyle", "outline_style", "source_depth", "close_cuts", "clear_stale_outline", "drop_flecks",
            "fill_joints", "fill_pinholes"]
@@ -325,10 +325,11 @@ def _small_holes(solid: np.ndarray, width: float, alpha: np.ndarray | None = Non
 
 #: A crack (a thin enclosed hole) is filled up to this many times a pinhole's area.
 _CRACK = 4.0
-@_on_object_box("source_alpha", "zones", "depth")
+@_on_object_box("source_alpha", "zones", "depth", "carried")
 def fill_pinholes(layer: np.ndarray, width: float = 1.0, *, slits: bool = False,
                   outlined: bool = False, zones: np.ndarray | None = None,
-                  depth: np.ndarray | None = None, source_alpha: np.ndarray | None = None) -> np.ndarray:
+                  depth: np.ndarray | None = None, source_alpha: np.ndarray | None = None,
+                  carried: np.ndarray | None = None) -> np.ndarray:
     """``layer`` with its small enclosed holes made opaque (a new array, or ``layer``).
 
     A hole is a connected region of alpha <= 0.98 that does not reach the
@@ -380,6 +381,10 @@ def fill_pinholes(layer: np.ndarray, width: float = 1.0, *, slits: bool = False,
     source_alpha : (H', W') ndarray, optional
         The source's alpha: slits it has itself (within ``2 width + 2`` px when
         the canvas is the source's size; anywhere otherwise) are its own and stay open.
+    carried : (H, W) bool ndarray, optional
+        The source's own slits carried onto the result by the patches
+        (:func:`~branchnb.strokes.slits._carried_slits`: a turned petal's notch): a slit
+        touching them stays open.
 
     Returns
     -------
@@ -399,6 +404,8 @@ def fill_pinholes(layer: np.ndarray, width: float = 1.0, *, slits: bool = False,
     if slits:
         lined, torn = _select_slits(layer, width, outlined=outlined, zones=zones, depth=depth,
                                     source_alpha=source_alpha)
+        if carried is not None and carried.any():
+            lined, torn = _not_near(lined, carried), _not_near(torn, carried)
     again = lined is not None or torn is not None
     if outlined and lined is not None:
         # (an outlined object: filled like pinholes, the lining repainted by the caller)

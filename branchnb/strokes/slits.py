@@ -281,3 +281,123 @@ def _joint_zones(shape, disks, width: float) -> np.ndarray:
         yy, xx = np.mgrid[r0:r1, c0:c1]
         zones[r0:r1, c0:c1] |= (xx - cx) ** 2 + (yy - cy) ** 2 <= g * g
     return zones
+
+
+#: Widest slit (px) of the source that :func:`_carried_slits` follows onto the result (a
+#: closing by a disc of half this radius finds it).
+_CARRIED_SLIT = 4
+#: A source pixel is open in a slit below this alpha.
+_SLIT_OPEN = 0.9
+#: Least background px of a source slit (a 2 px notch along a 256-px flower's petal ~30; the
+#: corner of a crotch the closing fills 1-8).
+_SLIT_LEAST = 16
+
+
+def _source_slits(source_alpha: np.ndarray) -> np.ndarray | None:
+    """Open pixels (alpha < :data:`_SLIT_OPEN`) of the source's slits at most
+    :data:`_CARRIED_SLIT` px wide (background inside its silhouette's closing, in pieces of
+    at least :data:`_SLIT_LEAST` px, with their anti-aliased sides), as float32, or None
+    when it has none."""
+    from .parts import _closed_by_disk
+
+    obj = source_alpha > 0.5
+    rows, cols = np.flatnonzero(obj.any(axis=1)), np.flatnonzero(obj.any(axis=0))
+    if not len(rows):
+        return None
+    # (on the object's box: the closing adds nothing beyond it)
+    box = (slice(rows[0], rows[-1] + 1), slice(cols[0], cols[-1] + 1))
+    r = _CARRIED_SLIT // 2
+    closed = _closed_by_disk(np.pad(obj[box], r + 1), r)[r + 1:-r - 1, r + 1:-r - 1]
+    # a slit is long: a crotch's corner, which the closing also fills, holds a few px only
+    lab, n = ndi.label(closed & ~obj[box], structure=_EIGHT)
+    if n == 0:
+        return None
+    size = np.bincount(lab.ravel(), minlength=n + 1)
+    core = (size >= _SLIT_LEAST)[lab] & (lab > 0)
+    if not core.any():
+        return None
+    # (with its anti-aliased sides)
+    slit = ndi.binary_dilation(core, structure=_EIGHT) & closed & (source_alpha[box] < _SLIT_OPEN)
+    out = np.zeros(source_alpha.shape, np.float32)
+    out[box] = slit
+    return out
+
+
+def _carried_slits(index, labels: np.ndarray, placed: list, alpha: np.ndarray) -> np.ndarray | None:
+    """Result pixels whose source place (through the patch that laid them) lies in one of the
+    source's own slits (:func:`_source_slits`): a notched petal's notch wherever the petal was
+    turned or moved (looked up where the result's ``alpha`` is short of opaque). None when the
+    source has no slit or no pixel lands in one.
+
+    Beyond the papers (strokes40): the hairline and pinhole passes knew a source's own slits
+    only where the result's frame is the source's (the same pixel), so a turned petal's
+    notch, a one-pixel line between opaque sides, was closed like a hairline (of 20 gaps of
+    a flower whose notched head is turned, 12 were closed).
+    """
+    slits = index.__dict__.get("_slits", False)
+    if slits is False:
+        slits = _source_slits(index.premult[:, :, 3])
+        index.__dict__["_slits"] = slits
+    if slits is None:
+        return None
+    # (only pixels short of opaque can be a slit's: the object's inside is not looked up)
+    h, w = labels.shape
+    idx = np.flatnonzero((alpha < _SLIT_OPEN).ravel() & (labels.ravel() >= 0))
+    lab = labels.ravel()[idx]
+    order = np.argsort(lab, kind="stable")
+    idx, lab = idx[order], lab[order]
+    bounds = np.searchsorted(lab, np.arange(len(placed) + 1))
+    got = np.zeros(h * w, bool)
+    for i, pp in enumerate(placed):
+        sub = idx[bounds[i]:bounds[i + 1]]
+        m = pp.source_map
+        if not len(sub) or m is None:
+            continue
+        ys, xs = np.divmod(sub, w)
+        sx = m[0, 0] * xs + m[0, 1] * ys + m[0, 2]
+        sy = m[1, 0] * xs + m[1, 1] * ys + m[1, 2]
+        # (bilinear: a turned notch's middle falls between the source's pixels)
+        got[sub] = ndi.map_coordinates(slits, [sy, sx], order=1, mode="nearest") > 0.5
+    got = got.reshape(h, w)
+    return got if got.any() else None
+
+
+def _open_stretches(carried: np.ndarray | None, alpha: np.ndarray) -> np.ndarray | None:
+    """The pixels of ``carried`` (:func:`_carried_slits`) where the slit opens onto the
+    background round the object in ``alpha`` (and the pixel beside that): a stretch of a
+    slit closed off (a notch's tapering inner end, in pieces) is a pinhole, still closed."""
+    if carried is None:
+        return None
+    got = carried.copy()
+    lab, _ = ndi.label(alpha < 0.5)
+    outside = np.unique(np.r_[lab[0], lab[-1], lab[:, 0], lab[:, -1]])
+    open_ = np.isin(lab, outside[outside > 0])
+    got &= ndi.binary_dilation(open_ & got, structure=_EIGHT)
+    return got if got.any() else None
+
+
+def _fill_closed_off(layer: np.ndarray, carried: np.ndarray | None, width: float) -> np.ndarray:
+    """``layer`` with the background pockets (alpha < 0.5, 4-connected) of at most
+    ``(2 width + 2) ** 2`` px that touch ``carried`` (:func:`_carried_slits`) and no longer
+    reach the background round the object made opaque (the nearest opaque pixel's colour):
+    the stretches of a carried slit the later closings shut off, pinholes otherwise."""
+    if carried is None:
+        return layer
+    lab, n = ndi.label(layer[..., 3] < 0.5)
+    if n < 2:
+        return layer
+    size = np.bincount(lab.ravel(), minlength=n + 1)
+    outside = np.unique(np.r_[lab[0], lab[-1], lab[:, 0], lab[:, -1]])
+    small = size <= (2.0 * float(width) + 2.0) ** 2
+    small[outside] = False
+    small[0] = False
+    touch = np.zeros(n + 1, bool)
+    touch[np.unique(lab[ndi.binary_dilation(carried, structure=_EIGHT)])] = True
+    hole = (small & touch)[lab]
+    if not hole.any():
+        return layer
+    out = layer.copy()
+    _, (iy, ix) = ndi.distance_transform_edt(layer[..., 3] < 0.98, return_indices=True)
+    out[hole, :3] = layer[iy[hole], ix[hole], :3]
+    out[hole, 3] = 1.0
+    return out

@@ -35,7 +35,7 @@ from .outline import (
 from .overlays import _overlaid_parts, _solid_cracks
 from .parts import place_part, rigid_frame
 from .sampling import choose, pair_energies
-from .slits import _joint_zones
+from .slits import _carried_slits, _fill_closed_off, _joint_zones, _open_stretches
 from .tubes import _distance_map
 
 __all__ = ["compose_patches"]
@@ -243,7 +243,12 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
         if joints:
             layer = fill_joints(layer, [j[0] for j in joints], [j[1] for j in joints],
                                 pockets=[_thin_closing(index, j[3]) for j in joints], keep_open=pockets)
-        layer = close_hairlines(layer, [(d[0], 1.5 * d[2] + 4.0) for d in disks])
+        # (the source's own slits carried by the patches -- a turned petal's notch -- stay open)
+        # (the whole of them for the slit pass: a notch whose mouth a rim-crack closing
+        # shut stays a notch; its pieces under a pinhole's size are filled at the end)
+        carried_all = _carried_slits(index, comp.labels, placed, layer[:, :, 3])
+        layer = close_hairlines(layer, [(d[0], 1.5 * d[2] + 4.0) for d in disks],
+                                keep_open=_open_stretches(carried_all, layer[:, :, 3]))
         if style is not None and (disks or joints):
             # rims the last closings buried inside the object (a kept arm's outline
             # running into a turned arm's root): interior ink, repainted
@@ -262,7 +267,7 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
                               zones=_joint_zones(layer.shape[:2], disks, 1.0 if style is None else style.width),
                               depth=None if style is not None else source_depth(
                                   comp.labels, [pp.source_map for pp in placed], index.depth),
-                              source_alpha=index.premult[:, :, 3])
+                              source_alpha=index.premult[:, :, 3], carried=carried_all)
         if style is not None and layer is not unplugged:
             # a crack plugged with its nearest opaque colour -- the ink lining it -- and that
             # lining, now inside: a dark blob at a crotch where two limbs' patches met
@@ -286,6 +291,8 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
         layer = drop_flecks(layer, index.premult[:, :, 3], level=0.5)
         # (last: the closings above leave half-transparent pixels of their own)
         layer = _solid_cracks(layer, index.premult[:, :, 3])
+        # (a carried slit's stretch those closings shut off is a pinhole: filled)
+        layer = _fill_closed_off(layer, carried_all, 1.0 if style is None else style.width)
         alpha = layer[:, :, 3]
     mask = alpha > 0.5
     seams = seam_mask(comp.labels, alpha, min_alpha=0.1)
