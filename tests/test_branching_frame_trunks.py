@@ -42,14 +42,16 @@ def _thick_line(sk, rad, pts, r):
 
 def test_line_crossing_enters_once_two_trunks_twice():
     # a thick line crossing from the left to the right side enters once (one tree)
-    sk = np.zeros((200, 300), bool); rad = np.zeros(sk.shape)
+    sk = np.zeros((200, 300), bool)
+    rad = np.zeros(sk.shape)
     _thick_line(sk, rad, [(0, 100), (299, 100)], 5.0)
     for x in range(30, 280, 25):
         _thick_line(sk, rad, [(x, 101), (x, 160)], 1.0)
     s = skeleton_to_structure(sk, rad, root="auto", image_shape=sk.shape)
     assert sum(b.parent is None for b in s.branches) == 1
     # two trunks entering at the top whose lines touch below (a U) are two trees
-    sk = np.zeros((200, 300), bool); rad = np.zeros(sk.shape)
+    sk = np.zeros((200, 300), bool)
+    rad = np.zeros(sk.shape)
     _thick_line(sk, rad, [(80, 0), (80, 150)], 5.0)
     _thick_line(sk, rad, [(220, 0), (220, 150)], 5.0)
     _thick_line(sk, rad, [(81, 150), (219, 150)], 3.0)

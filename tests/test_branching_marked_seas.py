@@ -71,7 +71,8 @@ def _fantasy_map(size: int, seed: int):
         for j in (len(main) // 3, 2 * len(main) // 3):
             d = main[j + 1] - main[j]
             s = rng.choice([-1.0, 1.0])
-            d = np.array([d[0] * np.cos(0.8 * s) - d[1] * np.sin(0.8 * s), d[0] * np.sin(0.8 * s) + d[1] * np.cos(0.8 * s)])
+            cos_t, sin_t = np.cos(0.8 * s), np.sin(0.8 * s)
+            d = np.array([d[0] * cos_t - d[1] * sin_t, d[0] * sin_t + d[1] * cos_t])
             trib = walk(main[j], d / np.linalg.norm(d), size // 25)
             if len(trib) > 2:
                 cv2.polylines(truth, [trib.astype(np.int32)], False, 1, 1)

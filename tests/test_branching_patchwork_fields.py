@@ -4,11 +4,11 @@ import cv2
 import numpy as np
 import pytest
 from scipy import ndimage as ndi
+from test_branching_patchwork import PALETTE, _fields, _river
 
 from branchnb.branching import synthesize_image
 from branchnb.branching.patchwork import paste_fields
 from branchnb.core.structure import Branch, Structure
-from test_branching_patchwork import PALETTE, _fields, _river
 
 
 def _labels(img):
@@ -21,7 +21,8 @@ def _axis_aligned(img, ground, run=12):
     lab = _labels(img)
     eh = (lab[:, 1:] != lab[:, :-1]) & ground[:, 1:] & ground[:, :-1]
     ev = (lab[1:] != lab[:-1]) & ground[1:] & ground[:-1]
-    straight = ndi.binary_opening(eh, np.ones((run, 1), bool)).sum() + ndi.binary_opening(ev, np.ones((1, run), bool)).sum()
+    straight = (ndi.binary_opening(eh, np.ones((run, 1), bool)).sum()
+                + ndi.binary_opening(ev, np.ones((1, run), bool)).sum())
     return straight / max(eh.sum() + ev.sum(), 1)
 
 

@@ -30,7 +30,8 @@ def test_palette_png_is_lossless_and_smaller():
     assert len(packed) < 0.7 * len(plain)
     photo = rng.random((30, 30, 3))  # too many colours: written as usual
     assert encode_png(photo, palette=True) == encode_png(photo)
-    rgba = np.zeros((8, 8, 4)); rgba[..., 3] = 1
+    rgba = np.zeros((8, 8, 4))
+    rgba[..., 3] = 1
     assert np.array_equal(_decode(encode_png(rgba, palette=True)), _decode(encode_png(rgba)))
 
 

@@ -6,7 +6,7 @@ import cv2
 import numpy as np
 import pytest
 
-from branchnb.dendrite import Stylizer, StylizeParams
+from branchnb.dendrite import StylizeParams, Stylizer
 
 
 def _drawing(size: int, ground, ink, where, seed: int):

@@ -121,7 +121,7 @@ def coast_dashes(inside: np.ndarray, ink: np.ndarray, usable: np.ndarray, width:
                 continue
             total += s[b - 1] - s[a]
             runs = _runs(on[a:b])
-            for j, (v, ra, rb) in enumerate(runs[1:-1], 1):
+            for v, ra, rb in runs[1:-1]:
                 # (from its first pixel to the next run's: a diagonal step between runs is 1.4 px)
                 length = s[a + rb] - s[a + ra]
                 (dashes if v else gaps).append(length)

@@ -39,9 +39,9 @@ after at 256 / 768 px: bold "HAM" 0.07 / 0.07 -> 0.58 / 0.84, "MOON" 0.10 / 0.07
 0.74, a 2 x 2 cluster of discs 1.4 radii apart 0.17 / 0.08 -> 0.41 / 0.57 (only ~0.5 of each
 disc's own outline lies on the cluster's outline, the rest inside; on that share 0.51 /
 0.93); single bold letters M, W (0.12-0.20) and the thin and multi-object kinds of
-``_thin_check``, ``_thin_branch_check`` and ``_multi_bolt_check`` keep their parts. Limits: letters under ``OUTLINE_MIN_PART`` of the picture (a line of small
-text) keep the paper's bolt; a thin piece without a core (a pole) counts as a part but is not
-split.
+``_thin_check``, ``_thin_branch_check`` and ``_multi_bolt_check`` keep their parts. Limits:
+letters under ``OUTLINE_MIN_PART`` of the picture (a line of small text) keep the paper's bolt;
+a thin piece without a core (a pole) counts as a part but is not split.
 
 Measured with the defaults (before -> after; the least share, over a picture's objects of at
 least 2 % of it, of the outline with ink within 4 px; and the share of the ink within 3 px of

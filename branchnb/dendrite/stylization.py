@@ -45,6 +45,7 @@ from ..core.random import as_seed
 from ..core.validate import Int, Point, checked
 from .dendrite import Dendrite, build_dendrite
 from .endpoints import place_endpoints
+from .foreground import PaperGround, _on_paper, _paper_ground
 from .importance import ImportanceParams, _to_paper_white, darkness, gradient_strength, importance_map
 from .lattice import Lattice, node_weights
 from .main_channel import (
@@ -52,7 +53,6 @@ from .main_channel import (
 )
 from .planner import PlanResult, plan
 from .render import Rendering
-from .foreground import PaperGround, _on_paper, _paper_ground
 from .strike_outline import thin_on_ground
 from .stylize_object import _ObjectSteps
 from .stylize_params import (  # noqa: F401  (re-exported; the spacings too)
@@ -665,7 +665,7 @@ class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
             self.image, (max(1, round(w * f)), max(1, round(h * f))), interpolation=cv2.INTER_AREA)
         return _paper_ground(small)
 
-    def _levelled(self, ground: PaperGround) -> "Stylizer":
+    def _levelled(self, ground: PaperGround) -> Stylizer:
         """A stylizer of the picture levelled to its paper ``ground`` (cached)."""
         return self._get(("on_paper",), lambda: Stylizer(_on_paper(self.image, ground)))
 

@@ -42,7 +42,7 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from .parts import carry_frame, rigid_frame
+from .parts import carry_frame
 
 __all__: list[str] = []
 

@@ -22,12 +22,12 @@ from ..core.io import encode_png
 from ..core.params import check_params
 from ..core.validate import Array, Int, Seq, checked
 from .contour import ContourParams
-from .translucent import translucent_level
 from .exemplar import (
     SPRITE_SIZE,
     ExemplarParams,
 )
 from .histogram_transfer import _remember_parts
+from .translucent import translucent_level
 from .variations import (
     GROUND_METHODS,
     MAX_VARIATIONS,
