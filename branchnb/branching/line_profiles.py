@@ -77,6 +77,10 @@ def _hessian_across(gray: np.ndarray, sigmas) -> tuple[np.ndarray, ...]:
     return l_a, l_b, nx, ny
 
 
+#: Reach (px) of the brightness the dotted test reads at a skeleton pixel (0 = the pixel itself).
+DOT_REACH = 1
+
+
 def false_ridge_pixels(gray, skeleton, polarity: str, *, sigma_min: float = 1.0, sigma_max: float = 4.0,
                        two_sided: float = 0.3, dotted: float = 0.3, beads: float = 0.3,
                        min_run: int = 10, local: float = 0.0) -> np.ndarray:
@@ -212,7 +216,10 @@ def false_ridge_pixels(gray, skeleton, polarity: str, *, sigma_min: float = 1.0,
     d = max(3.0, 2.0 * sigma_max)
     a = ndi.map_coordinates(gs, [yy + d * uy, xx + d * ux], order=1, mode="nearest") * sign
     b = ndi.map_coordinates(gs, [yy - d * uy, xx - d * ux], order=1, mode="nearest") * sign
-    con = c - np.minimum(a, b)
+    # (the brightest pixel within DOT_REACH px: the skeleton of a small jagged bolt's merged mask cuts
+    # across its zigzags and read it dotted; a row of dots stays dark between them)
+    cm = ndi.maximum_filter(gs * sign, 2 * DOT_REACH + 1)[yy, xx] if DOT_REACH else c
+    con = cm - np.minimum(a, b)
     size = np.bincount(ll, minlength=n + 1)
     p90 = np.zeros(n + 1)
     p90[1:] = ndi.labeled_comprehension(con, ll, idx, lambda v: np.percentile(v, 90), float, 0.0)
