@@ -29,10 +29,19 @@ on black, neon on a plain wall; one flat region, so no flat drawing) are
 drawn the same way: copied fragment by fragment (disks of ``3 r``, ``r``
 the core's radius) their glow ended 3-4 px from the centre line.
 
-Limits: a noisy or textured ground is non-flat beside the lines as
-everywhere, so its glow is not told apart (those examples keep the
-textured path); the profile is per radius class, so an output whose
-radii are thinner than the example's has a narrower bright core.
+A grainy ground (noise, film grain, stars; :func:`ground_noise` over
+:data:`NOISY`) is non-flat everywhere, so the glow tests look at the
+example smoothed (:func:`calm_example`); its ground keeps the grain
+(mirrored into the refilled zone) and its lines' core keeps theirs
+(``GlowModel.grain``). A glow the extracted radius took in (a neon tube's
+``r`` 3 px for a 2 px core) is seen by the ring just outside the line's
+rim (:func:`near_glowing_share`). The profile is measured in half-pixel
+bins, so a thin core drawn off the pixel grid peaks as the example's.
+
+Limits: a textured ground (not grain) keeps the textured path; a glow
+narrower than a pixel or two (a bolt photo shrunk to 128 px) is not told
+apart from an anti-aliased drawn line and is drawn flat; an output radius
+under the example's thinnest class takes that class's profile.
 """
 
 from __future__ import annotations
@@ -558,7 +567,7 @@ def glow_model(image: np.ndarray, pm: PixelMap, labels: np.ndarray | None = None
         core_bins = int(np.argmax(np.all(peak < 0.5 * peak.max(axis=1, keepdims=True), axis=0))) or 1
         inner = q < core_bins
         model = np.zeros_like(devs)
-        for j, (lo, hi) in enumerate(zip(edges[:-1], edges[1:])):
+        for lo, hi in zip(edges[:-1], edges[1:]):
             sel = (r >= lo) & (r <= hi)
             k = int(np.argmin(np.abs(radii_a - np.median(rc[(rc >= lo) & (rc <= hi)])))) if sel.any() else 0
             model[sel] = excess[k][np.minimum(q[sel], n_bins - 1)]

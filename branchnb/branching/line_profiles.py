@@ -97,7 +97,10 @@ def false_ridge_pixels(gray, skeleton, polarity: str, *, sigma_min: float = 1.0,
       its 90th percentile on at least a ``dotted`` share of the stretch, and varies along it
       by a coefficient of variation of at least ``dotted``, bright in three or more separate
       pieces: a row of separate dots whose brightness drops to the ground between them, not
-      a continuous line (nor one fading towards its tip);
+      a continuous line (nor one fading towards its tip). The contrast is read at the brightest
+      pixel within :data:`DOT_REACH` px of the skeleton pixel: at 128 px the skeleton of a jagged
+      bolt's merged ridge mask cuts across its zigzags, and read at the pixel itself the bolt was
+      dotted (beyond the paper, issue 23);
     * *beaded* (beyond the paper): dots so close that their glows merge into one ridge, whose
       contrast never falls to half: along the stretch its brightness peaks (the brightest skeleton
       pixel within 3 px) at least 8 times, once every 8 px or closer, each peak rising by at least
