@@ -77,8 +77,9 @@ def _hessian_across(gray: np.ndarray, sigmas) -> tuple[np.ndarray, ...]:
     return l_a, l_b, nx, ny
 
 
-#: Reach (px) of the brightness the dotted test reads at a skeleton pixel (0 = the pixel itself).
-DOT_REACH = 1
+#: Reach (px, across the stretch) of the brightness the dotted test reads at a skeleton pixel (0 = the
+#: pixel itself).
+DOT_REACH = 1.0
 
 
 def false_ridge_pixels(gray, skeleton, polarity: str, *, sigma_min: float = 1.0, sigma_max: float = 4.0,
@@ -98,9 +99,9 @@ def false_ridge_pixels(gray, skeleton, polarity: str, *, sigma_min: float = 1.0,
       by a coefficient of variation of at least ``dotted``, bright in three or more separate
       pieces: a row of separate dots whose brightness drops to the ground between them, not
       a continuous line (nor one fading towards its tip). The contrast is read at the brightest
-      pixel within :data:`DOT_REACH` px of the skeleton pixel: at 128 px the skeleton of a jagged
+      point within :data:`DOT_REACH` px across the stretch: at 128 px the skeleton of a jagged
       bolt's merged ridge mask cuts across its zigzags, and read at the pixel itself the bolt was
-      dotted (beyond the paper, issue 23);
+      dotted (beyond the paper, issue 23; a row of dots is dark between them along the stretch);
     * *beaded* (beyond the paper): dots so close that their glows merge into one ridge, whose
       contrast never falls to half: along the stretch its brightness peaks (the brightest skeleton
       pixel within 3 px) at least 8 times, once every 8 px or closer, each peak rising by at least
@@ -219,9 +220,12 @@ def false_ridge_pixels(gray, skeleton, polarity: str, *, sigma_min: float = 1.0,
     d = max(3.0, 2.0 * sigma_max)
     a = ndi.map_coordinates(gs, [yy + d * uy, xx + d * ux], order=1, mode="nearest") * sign
     b = ndi.map_coordinates(gs, [yy - d * uy, xx - d * ux], order=1, mode="nearest") * sign
-    # (the brightest pixel within DOT_REACH px: the skeleton of a small jagged bolt's merged mask cuts
-    # across its zigzags and read it dotted; a row of dots stays dark between them)
-    cm = ndi.maximum_filter(gs * sign, 2 * DOT_REACH + 1)[yy, xx] if DOT_REACH else c
+    # (the brightest point within DOT_REACH px *across* the stretch: the skeleton of a small jagged bolt's
+    # merged mask cuts across its zigzags and read it dotted; a row of dots stays dark between its dots,
+    # whose gaps lie along the stretch -- a 3 x 3 max bridged a city-lights row of 5-9 px spacing)
+    cm = c
+    for t in (-DOT_REACH, DOT_REACH) if DOT_REACH else ():
+        cm = np.maximum(cm, ndi.map_coordinates(gs, [yy + t * uy, xx + t * ux], order=1, mode="nearest") * sign)
     con = cm - np.minimum(a, b)
     size = np.bincount(ll, minlength=n + 1)
     p90 = np.zeros(n + 1)
