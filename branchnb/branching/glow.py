@@ -32,7 +32,7 @@ the core's radius) their glow ended 3-4 px from the centre line.
 A grainy ground (noise, film grain, stars; :func:`ground_noise` over
 :data:`NOISY`) is non-flat everywhere, so the glow tests look at the
 example smoothed (:func:`calm_example`); its ground keeps the grain
-(mirrored into the refilled zone) and its lines' core keeps theirs
+(drawn into the refilled zone) and its lines' core keeps theirs
 (``GlowModel.grain``). A glow the extracted radius took in (a neon tube's
 ``r`` 3 px for a 2 px core) is seen by the ring just outside the line's
 rim (:func:`near_glowing_share`). The profile is measured in half-pixel
@@ -287,24 +287,34 @@ def _fill_regions(image: np.ndarray, hole: np.ndarray, labels: np.ndarray, sigma
     return out
 
 
-def _regrain(image: np.ndarray, calm: np.ndarray, ground: np.ndarray, hole: np.ndarray) -> np.ndarray:
-    """``ground`` with the example's grain (``image - calm``) put back into ``hole``: each hole pixel takes
-    the grain of its mirror image across the nearest pixel outside the hole (the nearest one's where the
-    mirror falls in the hole or off the image). Refilled by a normalised convolution, a grainy sky had
-    smooth streaks where the example's lines were (ghosts of them in the output's sky)."""
-    from scipy import ndimage as ndi
-
-    grain = np.asarray(image, np.float32) - np.asarray(calm, np.float32)
-    _d, (iy, ix) = ndi.distance_transform_edt(hole, return_indices=True)
-    h, w = hole.shape
-    ys, xs = np.nonzero(hole)
-    ny, nx = iy[ys, xs], ix[ys, xs]
-    my, mx = 2 * ny - ys, 2 * nx - xs
-    ok = (my >= 0) & (my < h) & (mx >= 0) & (mx < w)
-    ok[ok] &= ~hole[my[ok], mx[ok]]
-    sy, sx = np.where(ok, my, ny), np.where(ok, mx, nx)
+def _regrain(image: np.ndarray, calm: np.ndarray, ground: np.ndarray, hole: np.ndarray,
+             labels: np.ndarray) -> np.ndarray:
+    """``ground`` with the example's grain put back into ``hole``: each hole pixel takes the grain (the
+    example about its local mean outside the hole) of a pixel of its region outside the hole, drawn by a
+    fixed seed. Refilled by a normalised convolution, a grainy sky had smooth streaks where the example's
+    lines were (ghosts of them in the output's sky); mirrored across the hole's edge, the grain came out
+    as flat shards where the mirror fell back into a wide hole (between two strands of a bolt)."""
+    img = np.asarray(image, np.float32)
+    # the local mean blurred over the pixels outside the hole only: ``calm`` blurs the lines' light
+    # across the hole's edge, and that residual made dark blotches
+    keep = (~hole).astype(np.float32)
+    den = cv2.GaussianBlur(keep, (0, 0), 1.5, borderType=cv2.BORDER_REFLECT)
+    num = cv2.GaussianBlur(img * keep[..., None], (0, 0), 1.5, borderType=cv2.BORDER_REFLECT)
+    num = num if num.ndim == 3 else num[..., None]
+    mean = np.where(den[..., None] > 1e-3, num / np.maximum(den, 1e-3)[..., None], np.asarray(calm, np.float32))
+    grain = (img - mean).reshape(-1, img.shape[2])
     out = np.array(ground, np.float32, copy=True)
-    out[ys, xs] += grain[sy, sx]
+    flat = out.reshape(-1, out.shape[2])
+    lab = np.asarray(labels).ravel()
+    hv = hole.ravel()
+    rng = np.random.default_rng(0)
+    for k in np.unique(lab[hv]):
+        dst = np.flatnonzero(hv & (lab == k))
+        src = np.flatnonzero(~hv & (lab == k))
+        if src.size == 0:
+            src = np.flatnonzero(~hv)
+        if src.size:
+            flat[dst] += grain[src[rng.integers(0, src.size, dst.size)]]
     return np.clip(out, 0.0, 1.0)
 
 
@@ -573,6 +583,6 @@ def glow_model(image: np.ndarray, pm: PixelMap, labels: np.ndarray | None = None
             model[sel] = excess[k][np.minimum(q[sel], n_bins - 1)]
         grain = (devs - model)[inner].astype(np.float32)
         grain_bin = q[inner]
-        ground = _regrain(img, calm, ground, hole)
+        ground = _regrain(img, calm, ground, hole, lab)
     return GlowModel(ground.astype(np.float32), int(reach), radii_a, excess.astype(np.float32), _STEP,
                      grain, grain_bin)
