@@ -350,7 +350,12 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
             # photographs: edges of lit regions and rows of separate lights are no lines (beyond the paper);
             # only where the traced lines are brighter than their ground (the filter's polarity may say
             # otherwise)
-            skel &= ~false_ridge_pixels(work, skel, "bright", sigma_min=p.sigma_min, sigma_max=p.sigma_max)
+            # (a small example's bright lines on a dark ground, a bolt: its skeleton cuts across its zigzags,
+            # read across by 1 px; a 128 px fundus photo's extraction moved with it, so only there)
+            bolt = max(np.shape(gray)[:2]) <= SMALL_SIDE and \
+                float(np.median(work[skel]) - np.median(work)) > 0.25
+            skel &= ~false_ridge_pixels(work, skel, "bright", sigma_min=p.sigma_min, sigma_max=p.sigma_max,
+                                        dot_reach=1.0 if bolt else 0.0)
         else:
             # dark lines: the step between a darker and a lighter field (a photo's fields, tiles, shading) is
             # no line either, it is as dark as its darker side; only that test (a crack's darkness is

@@ -121,6 +121,26 @@ def _in_example_range(canvas: np.ndarray, example: np.ndarray) -> np.ndarray:
     return canvas
 
 
+def _grainy_glow(ex: np.ndarray, pm_s, p, cached: dict) -> None:
+    """Beyond the paper (issue 23): glowing lines on a grainy ground (noise, film grain, stars in a night
+    sky) -- no flat region, so they went the textured path and came out as broken, dim pieces. When the
+    example smoothed (:func:`~.glow.calm_example`) is flat and its lines glow, ``cached`` takes the
+    smoothed example (``calm``), its regions and the glow model (measured on the grainy example, whose
+    ground keeps the grain) and the example is drawn as a flat glowing one."""
+    from .glow import calm_example, glow_model
+
+    calm = calm_example(ex, pm_s)
+    if calm is None:
+        return
+    labels, share = flat_colour_regions(calm, pm_s.core(p.exclusion, p.exclusion_margin))
+    if share < 0.5:
+        return
+    glow = glow_model(ex, pm_s, labels)
+    if glow is None:
+        return
+    cached.update(calm=calm, labels_ex=labels, flat_share=share, flat_glow=glow)
+
+
 def _two_colours(image: np.ndarray) -> bool:
     """Whether every pixel of ``image`` has one of at most two colours (a binary mask)."""
     flat = np.ascontiguousarray(image.reshape(-1, image.shape[2]) if image.ndim == 3 else image.reshape(-1, 1))
@@ -273,7 +293,11 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         cached = _EXAMPLE_CACHE[key] = {"sm_s": sm_s, "pm_s": pm_s, "labels_ex": labels_ex,
                                         "flat_share": flat_share, "mask": mask,
                                         "matte_colour": _matte_colour(ex) if p.exclude_matte else None}
+        if p.flat_drawing and flat_share < 0.5 and not getattr(example_structure, "hubs", None):
+            _grainy_glow(ex, pm_s, p, cached)
     sm_s, pm_s, labels_ex, flat_share = (cached[k] for k in ("sm_s", "pm_s", "labels_ex", "flat_share"))
+    # a grainy sky's glowing example is drawn from its smoothed self (its glow model keeps the grain)
+    ex = cached.get("calm", ex)
     sm_t = SkeletonMap(target_structure, 1.0)
     pm_t = sm_t.pixel_map((H, W))
     flat = bool(flat_share >= 0.5 and labels_ex.max() >= 1)
