@@ -258,6 +258,39 @@ def _pixel_mix(image: np.ndarray, exemplars: Sequence[Exemplar], cw: np.ndarray,
     return out, src, tr
 
 
+def _exemplar_facets(exemplar: Exemplar):
+    """:func:`~branchnb.trees.lowpoly.facet_palette` of an exemplar's crown (cached on it)."""
+    if "facets" not in exemplar._cages:
+        from .lowpoly import facet_palette
+
+        exemplar._cages["facets"] = facet_palette(exemplar.image, exemplar.trunk)
+    return exemplar._cages["facets"]
+
+
+#: A mix's crown is redrawn as facets when sources painting at least this share of it are
+#: low-poly (:func:`_facet_mix`); the rest of it may be anti-aliased steps only.
+FACET_CROWN = 0.95
+
+
+def _facet_mix(image: np.ndarray, exemplars: Sequence[Exemplar], sources: np.ndarray, trunk: np.ndarray):
+    """A ``"choose"`` mix whose crown comes from low-poly exemplars, its facets redrawn straight
+    (beyond the paper, :mod:`~branchnb.trees.lowpoly`): ``(image, sources)``; unchanged otherwise."""
+    from .lowpoly import straighten_facets
+
+    crown = (image[..., 3] >= 0.5) & (trunk < 0.5) & (sources >= 0)
+    if not crown.any():
+        return image, sources
+    share = np.bincount(sources[crown], minlength=len(exemplars)) / crown.sum()
+    pals = [_exemplar_facets(e) for e in exemplars]
+    faceted = np.array([p is not None for p in pals])
+    if share[faceted].sum() < FACET_CROWN:
+        return image, sources
+    pal = np.unique(np.concatenate([p for p in pals if p is not None]), axis=0)
+    src = np.where(image[..., 3] >= 0.5, sources, -1)
+    out, src = straighten_facets(image, pal, trunk, sources=src)
+    return out, np.where(src >= 0, src, sources)
+
+
 def _exemplar_dark_fill(exemplar: Exemplar) -> bool:
     """Whether an exemplar has an ink-dark fill region (:func:`~branchnb.trees.outline._has_dark_fill`,
     cached on it; True when it has no outline: nothing to tell)."""

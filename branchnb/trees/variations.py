@@ -56,6 +56,7 @@ from .contour import simplify_contour
 from .corners import _fill_tips, _polygonal, _tip_matched
 from .flat_art import (
     FLAT_ART_SHARE,
+    _facet_mix,
     _drawing_group,
     _ink_outline,
     _one_piece,
@@ -562,6 +563,10 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     parts_mode = mode == "choose" and p.choose_by == "parts" and len(used) > 1
     own = (_own_holes(image[..., 3] >= 0.5, [exemplars[i] for i in used], cage, p.m_points)
            if parts_mode and not bare else None)
+    if not bare and not pixel and mode == "choose" and len(used) > 1:
+        # low-poly crowns (beyond the paper): facets redrawn straight, the silhouette through
+        # the chosen crown's own corners (lowpoly.py)
+        image, sources = _facet_mix(image, [exemplars[i] for i in used], sources, trunk)
     if not bare:    # a bare mix is one piece already (a one-to-one warp of one exemplar)
         image = _one_piece(image, [exemplars[i] for i in used], own_holes=own)
     if bare:        # no outline, sticker or palette step: its soft alpha and colours stay
