@@ -263,7 +263,10 @@ def _exemplar_facets(exemplar: Exemplar):
     if "facets" not in exemplar._cages:
         from .lowpoly import facet_palette
 
-        exemplar._cages["facets"] = facet_palette(exemplar.image, exemplar.trunk)
+        # an outlined crown (tiers of a drawn fir) keeps its ink; its thin ring is too small for a
+        # facet region and would join the fills beside it
+        exemplar._cages["facets"] = (None if exemplar_outline(exemplar).outlined
+                                     else facet_palette(exemplar.image, exemplar.trunk))
     return exemplar._cages["facets"]
 
 

@@ -70,6 +70,9 @@ SNAP = 0.012
 #: Colours of one facet are equal at this precision (the sources' flat fills; the
 #: anti-aliased steps between facets are blends and join a neighbour).
 _QUANT = 64.0
+#: Farthest a redrawn silhouette moves from the mix's, share of the tree's size (the lumps of a
+#: mixed contour of polygons stand 1-1.2 % of it off the chords between its corners).
+REACH = 0.015
 #: Supersampling of the redrawn polygons (their edges anti-aliased as the sources').
 _SUPER = 4
 
@@ -199,6 +202,10 @@ def _facet_polygons(lab: np.ndarray, trunk: np.ndarray, n: int, snap: float):
 
 
 def _polygonal(mask: np.ndarray) -> bool:
+    """A convex-ish polygon of at most :data:`MAX_CORNERS` corners without holes (a flat fill
+    round dots or stripes is a ground, no facet)."""
+    if ndi.binary_fill_holes(mask).sum() > 1.05 * mask.sum() + 4:
+        return False
     pts = _corners(mask)
     if pts is None or len(pts) < 3 or len(pts) > MAX_CORNERS:
         return False
@@ -262,9 +269,9 @@ def facet_palette(image, trunk=None) -> np.ndarray | None:
     rim = crown & ~ndi.binary_erosion(crown, structure=np.ones((3, 3), bool))
     if good[near[crown]].mean() < FACET_COVER or good[near[rim]].mean() < FACET_COVER:
         return None
-    cols = ndi.mean(img[..., 0], lab, np.flatnonzero(good)), ndi.mean(img[..., 1], lab, np.flatnonzero(good)), \
-        ndi.mean(img[..., 2], lab, np.flatnonzero(good))
-    return np.unique(np.round(np.stack(cols, axis=1) * _QUANT) / _QUANT, axis=0).astype(np.float32)
+    ids = np.arange(n + 1)
+    cols = np.stack([ndi.mean(img[..., c], lab, ids) for c in range(3)], axis=1)
+    return np.unique(np.round(cols[good] * _QUANT) / _QUANT, axis=0).astype(np.float32)
 
 
 def straighten_facets(image, palette, trunk=None, *, sources=None):
@@ -366,7 +373,13 @@ def straighten_facets(image, palette, trunk=None, *, sources=None):
     # trunk stay opaque, in the nearest polygon's colour
     near_trunk = ndi.binary_dilation(tr, iterations=2) if tr.any() else tr
     keep = crown & ~inside & (ndi.binary_fill_holes(inside | tr) | near_trunk)
-    new = (inside & ~tr) | keep
+    # the silhouette moves by at most REACH of the size: a region traced wrong (a facet the warp
+    # tore, a corner snapped across a narrow part) cannot add a sliver or cut a notch beyond it
+    reach = max(2.0, REACH * max(h, w))
+    depth = ndi.distance_transform_edt(crown)
+    near = ndi.distance_transform_edt(~crown) <= reach
+    keep |= crown & (depth > reach)
+    new = (inside & ~tr & near) | keep
     _, (jy, jx) = ndi.distance_transform_edt(~inside, return_indices=True)
     out = img.copy()
     out[new, :3] = np.where(inside[new][:, None], col[new], col[jy[new], jx[new]])
