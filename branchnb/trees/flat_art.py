@@ -265,8 +265,11 @@ def _exemplar_facets(exemplar: Exemplar):
 
         # an outlined crown (tiers of a drawn fir) keeps its ink; its thin ring is too small for a
         # facet region and would join the fills beside it
-        exemplar._cages["facets"] = (None if exemplar_outline(exemplar).outlined
-                                     else facet_palette(exemplar.image, exemplar.trunk))
+        # (and a sticker's die-cut border, rebuilt by sticker.py)
+        from .sticker import _exemplar_border
+
+        exemplar._cages["facets"] = (None if exemplar_outline(exemplar).outlined or _exemplar_border(exemplar)
+                                     is not None else facet_palette(exemplar.image, exemplar.trunk))
     return exemplar._cages["facets"]
 
 

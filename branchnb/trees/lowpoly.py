@@ -207,8 +207,10 @@ def _polygonal(mask: np.ndarray) -> bool:
     if ndi.binary_fill_holes(mask).sum() > 1.05 * mask.sum() + 4:
         return False
     pts = _corners(mask)
-    if pts is None or len(pts) < 3 or len(pts) > MAX_CORNERS:
+    if pts is None or len(pts) > MAX_CORNERS:
         return False
+    if len(pts) < 3:        # a sliver facet: a thin strip along one straight edge
+        return True
     hull = cv2.convexHull(pts.astype(np.float32))
     return cv2.contourArea(pts.astype(np.float32)) >= FACET_SOLIDITY * max(cv2.contourArea(hull), 1e-9)
 
