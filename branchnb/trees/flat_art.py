@@ -4,7 +4,8 @@ What a mix of drawn trees needs that the paper's photographs do not: the
 exemplars' outlines (:func:`exemplar_outline`, re-inked along a mix's
 silhouette), their flatness (:func:`flat_share`, which decides
 ``colour_mode="auto"``), a result in one piece like its exemplars
-(:func:`one_piece`) and the crown/trunk parts (:func:`exemplar_parts`).
+(:func:`one_piece`) and the crown/trunk parts (:func:`exemplar_parts`); low-poly crowns
+are redrawn facet by facet (``_facet_mix``, :mod:`~branchnb.trees.lowpoly`).
 Split out of :mod:`branchnb.trees.variations`, which re-exports every name.
 
 Examples

@@ -43,7 +43,6 @@ from scipy import ndimage as ndi
 from scipy.spatial import cKDTree
 
 from ..core.image import as_rgba
-from ..core.validate import check_real
 
 __all__ = ["facet_palette", "straighten_facets", "MIN_FACETS", "MAX_CORNERS"]
 

@@ -56,8 +56,8 @@ from .contour import simplify_contour
 from .corners import _fill_tips, _polygonal, _tip_matched
 from .flat_art import (
     FLAT_ART_SHARE,
-    _facet_mix,
     _drawing_group,
+    _facet_mix,
     _ink_outline,
     _one_piece,
     _own_holes,
@@ -464,6 +464,13 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     (``colour_mode`` ``"auto"`` or ``"choose"``), the mix is put back on the
     sources' art-pixel grid in their palette, with a one-art-pixel outline
     where they are outlined: pixel art in, pixel art out.
+
+    Beyond the paper: when the crown of a ``"choose"`` mix comes from low-poly exemplars
+    (flat-shaded polygon facets tiling an unoutlined crown,
+    :func:`~branchnb.trees.lowpoly.facet_palette`), the warp's bent facet edges and the
+    mixed contour's lumps are redrawn: every facet as a straight-edged polygon through the
+    corners where it meets its neighbours, the silhouette through the crown's own outer
+    corners (:func:`~branchnb.trees.lowpoly.straighten_facets`).
 
     Examples
     --------
