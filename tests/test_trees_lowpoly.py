@@ -170,9 +170,9 @@ def test_low_poly_mixes_keep_straight_facets(monkeypatch):
     after, src_corners = _mixes(monkeypatch, True)
     with monkeypatch.context() as m:
         before, _ = _mixes(m, False)
-    # bent facet borders: the warp's sag (measured 0.2-0.45 of the borders without the redraw)
-    assert after[:, 0].max() <= 0.1, after[:, 0]
-    assert before[:, 0].mean() > after[:, 0].mean() + 0.1, (before[:, 0], after[:, 0])
-    # silhouette corners within the sources' range (lumpy blobs had up to twice as many)
+    # bent facet borders: the warp's sag (0.11-0.16 of the borders without the redraw, 0 with it)
+    assert after[:, 0].max() <= 0.05, after[:, 0]
+    assert before[:, 0].mean() > after[:, 0].mean() + 0.05, (before[:, 0], after[:, 0])
+    # silhouette corners within the sources' range (a guard: 10-13 with and without the redraw here)
     assert after[:, 1].max() <= max(src_corners) + 2, (after[:, 1], src_corners)
     assert after[:, 2].max() == 0.0
