@@ -4,7 +4,8 @@ What a mix of drawn trees needs that the paper's photographs do not: the
 exemplars' outlines (:func:`exemplar_outline`, re-inked along a mix's
 silhouette), their flatness (:func:`flat_share`, which decides
 ``colour_mode="auto"``), a result in one piece like its exemplars
-(:func:`one_piece`) and the crown/trunk parts (:func:`exemplar_parts`).
+(:func:`one_piece`) and the crown/trunk parts (:func:`exemplar_parts`); low-poly crowns
+are redrawn facet by facet (``_facet_mix``, :mod:`~branchnb.trees.lowpoly`).
 Split out of :mod:`branchnb.trees.variations`, which re-exports every name.
 
 Examples
@@ -256,6 +257,45 @@ def _pixel_mix(image: np.ndarray, exemplars: Sequence[Exemplar], cw: np.ndarray,
     out, (src, tr) = _pixelate(image, arts, blocks, ink=ink, layers=(sources, trunk), inner_ink=inner,
                                ink_blocks=ink_blocks)
     return out, src, tr
+
+
+def _exemplar_facets(exemplar: Exemplar):
+    """:func:`~branchnb.trees.lowpoly.facet_palette` of an exemplar's crown (cached on it)."""
+    if "facets" not in exemplar._cages:
+        from .lowpoly import facet_palette
+
+        # an outlined crown (tiers of a drawn fir) keeps its ink; its thin ring is too small for a
+        # facet region and would join the fills beside it
+        # (and a sticker's die-cut border, rebuilt by sticker.py)
+        from .sticker import _exemplar_border
+
+        exemplar._cages["facets"] = (None if exemplar_outline(exemplar).outlined or _exemplar_border(exemplar)
+                                     is not None else facet_palette(exemplar.image, exemplar.trunk))
+    return exemplar._cages["facets"]
+
+
+#: A mix's crown is redrawn as facets when sources painting at least this share of it are
+#: low-poly (:func:`_facet_mix`); the rest of it may be anti-aliased steps only.
+FACET_CROWN = 0.95
+
+
+def _facet_mix(image: np.ndarray, exemplars: Sequence[Exemplar], sources: np.ndarray, trunk: np.ndarray):
+    """A ``"choose"`` mix whose crown comes from low-poly exemplars, its facets redrawn straight
+    (beyond the paper, :mod:`~branchnb.trees.lowpoly`): ``(image, sources)``; unchanged otherwise."""
+    from .lowpoly import straighten_facets
+
+    crown = (image[..., 3] >= 0.5) & (trunk < 0.5) & (sources >= 0)
+    if not crown.any():
+        return image, sources
+    share = np.bincount(sources[crown], minlength=len(exemplars)) / crown.sum()
+    pals = [_exemplar_facets(e) for e in exemplars]
+    faceted = np.array([p is not None for p in pals])
+    if share[faceted].sum() < FACET_CROWN:
+        return image, sources
+    pal = np.unique(np.concatenate([p for p in pals if p is not None]), axis=0)
+    src = np.where(image[..., 3] >= 0.5, sources, -1)
+    out, src = straighten_facets(image, pal, trunk, sources=src)
+    return out, np.where(src >= 0, src, sources)
 
 
 def _exemplar_dark_fill(exemplar: Exemplar) -> bool:

@@ -57,6 +57,7 @@ from .corners import _fill_tips, _polygonal, _tip_matched
 from .flat_art import (
     FLAT_ART_SHARE,
     _drawing_group,
+    _facet_mix,
     _ink_outline,
     _one_piece,
     _own_holes,
@@ -464,6 +465,13 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     sources' art-pixel grid in their palette, with a one-art-pixel outline
     where they are outlined: pixel art in, pixel art out.
 
+    Beyond the paper: when the crown of a ``"choose"`` mix comes from low-poly exemplars
+    (flat-shaded polygon facets tiling an unoutlined crown,
+    :func:`~branchnb.trees.lowpoly.facet_palette`), the warp's bent facet edges and the
+    mixed contour's lumps are redrawn: every facet as a straight-edged polygon through the
+    corners where it meets its neighbours, the silhouette through the crown's own outer
+    corners (:func:`~branchnb.trees.lowpoly.straighten_facets`).
+
     Examples
     --------
     >>> from branchnb.trees import TreeLibrary
@@ -562,6 +570,10 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     parts_mode = mode == "choose" and p.choose_by == "parts" and len(used) > 1
     own = (_own_holes(image[..., 3] >= 0.5, [exemplars[i] for i in used], cage, p.m_points)
            if parts_mode and not bare else None)
+    if not bare and not pixel and mode == "choose" and len(used) > 1:
+        # low-poly crowns (beyond the paper): facets redrawn straight, the silhouette through
+        # the chosen crown's own corners (lowpoly.py)
+        image, sources = _facet_mix(image, [exemplars[i] for i in used], sources, trunk)
     if not bare:    # a bare mix is one piece already (a one-to-one warp of one exemplar)
         image = _one_piece(image, [exemplars[i] for i in used], own_holes=own)
     if bare:        # no outline, sticker or palette step: its soft alpha and colours stay

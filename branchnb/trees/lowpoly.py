@@ -1,0 +1,402 @@
+"""Low-poly trees keep straight facets in mixes (beyond the paper; issue 24, trees49).
+
+A low-poly crown is drawn as flat-shaded polygons (mostly triangles) that
+tile it, and its silhouette is a polygon through their outer corners. The
+paper's mean-value warp is smooth but not affine: every straight facet edge
+of the chosen crown comes out bent (1-5 px of sag at 256 px), and the
+mixed contour, a convex combination of polygons whose corners do not
+correspond (an 8-gon and a 6-gon give a lumpy 14-gon), rounds the
+silhouette into a blob. Neither is in any drawing of the kind.
+
+:func:`facet_palette` tells a faceted crown apart: its crown is covered by
+flat-colour regions (colours equal at 1/64), at least :data:`MIN_FACETS` of
+them, nearly all of its area and of its rim in regions that are convex
+polygons of at most :data:`MAX_CORNERS` corners. A mix whose crown comes
+from such sources is then **redrawn facet by facet** (:func:`straighten_facets`):
+every crown pixel joins the facet region of its colour (the anti-aliased
+steps between facets join the nearest region), each region is traced and
+reduced to its corners (Douglas-Peucker, tolerance :data:`CORNER_TOL` of its
+perimeter), corners of neighbouring regions closer than :data:`SNAP` of the
+tree's size are moved onto their common mean (so two facets share one
+straight edge, without a gap or overlap), and the polygons are drawn again,
+anti-aliased like the sources' own facet edges. The crown's silhouette is
+the union of the polygons: straight edges between the chosen crown's own
+outer corners. The trunk is left as it is.
+
+Figures (procedural low-poly trees of 6-9-corner and cone crowns, 128-1000 px, ``TreeLibrary``
+defaults): borders between facets straying more than 1.5 px from a straight line 11-16 % -> 0
+(``tests/test_trees_lowpoly.py``); facet-border pixels within 1 px of their fitted line, mixes
+of three polygonal crowns at 256 px, 0.945 -> 0.988 (sources 0.987); an unwarped tree redrawn
+moves under 1.5 % of its silhouette; no cross-fade. None of 69 drawn, synthetic, sticker,
+sprite and sample trees is taken as low-poly.
+
+Crowns with curved fills (cel shading, clumps, cartoon leaves), outlined
+or bordered crowns (an ink or sticker ring is no polygon) and pixel art are
+not faceted and keep the mix as made.
+
+Examples
+--------
+>>> import numpy as np
+>>> img = np.zeros((40, 40, 4), np.float32)
+>>> facet_palette(img) is None
+True
+"""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+from scipy import ndimage as ndi
+from scipy.spatial import cKDTree
+
+from ..core.image import as_rgba
+
+__all__ = ["facet_palette", "straighten_facets", "MIN_FACETS", "MAX_CORNERS"]
+
+#: Least number of flat facet regions of a faceted crown (a crown of one or two flat fills
+#: is a cartoon crown, not low-poly).
+MIN_FACETS = 4
+#: Most corners (after :data:`CORNER_TOL` simplification) of a facet polygon.
+MAX_CORNERS = 6
+#: Least solidity (area over convex-hull area) of a facet.
+FACET_SOLIDITY = 0.9
+#: Least share of the crown's area, and of its rim, in polygonal facet regions.
+FACET_COVER = 0.75
+#: Douglas-Peucker tolerance of a facet's outline, share of its perimeter: a warped
+#: facet edge sags by 1-5 px at 256 px (2-4 % of the edge), a real corner by far more.
+CORNER_TOL = 0.03
+#: Douglas-Peucker tolerance of a facet's run along the silhouette between two corners where
+#: it meets other facets, share of the run's length: a hull corner inside the run turning 30
+#: degrees stands 13 % of it off its chord, the lumps of a mixed contour 3-8 %.
+RIM_TOL = 0.1
+#: ... and at most this share of the tree's size (a long run keeps a real corner of a few px).
+RIM_MOST = 0.012
+#: Corners of neighbouring facets within this share of the tree's size are one corner.
+SNAP = 0.012
+#: Colours of one facet are equal at this precision (the sources' flat fills; the
+#: anti-aliased steps between facets are blends and join a neighbour).
+_QUANT = 64.0
+#: Farthest a redrawn silhouette moves from the mix's, share of the tree's size (the lumps of a
+#: mixed contour of polygons stand 1-1.2 % of it off the chords between its corners).
+REACH = 0.015
+#: Supersampling of the redrawn polygons (their edges anti-aliased as the sources').
+_SUPER = 4
+
+
+def _keys(rgb: np.ndarray) -> np.ndarray:
+    q = np.clip(np.round(rgb * _QUANT), 0, _QUANT).astype(np.int64)
+    return (q[..., 0] * 256 + q[..., 1]) * 256 + q[..., 2]
+
+
+def _regions(rgb: np.ndarray, crown: np.ndarray, min_area: int) -> tuple[np.ndarray, int]:
+    """Connected regions (4-connected) of one quantised colour of at least ``min_area`` px in
+    ``crown``: a label image (0 elsewhere) and the number of regions."""
+    key = np.where(crown, _keys(rgb), -1)
+    vals, counts = np.unique(key[crown], return_counts=True)
+    lab = np.zeros(crown.shape, np.int32)
+    n = 0
+    for v in vals[counts >= min_area]:
+        sub, m = ndi.label(key == v)
+        if m == 0:
+            continue
+        sizes = np.bincount(sub.ravel())
+        sizes[0] = 0
+        big = np.flatnonzero(sizes >= min_area)
+        if len(big) == 0:
+            continue
+        remap = np.zeros(m + 1, np.int32)
+        remap[big] = n + 1 + np.arange(len(big))
+        lab = np.where(sub > 0, np.maximum(lab, remap[sub]), lab)
+        n += len(big)
+    return lab, n
+
+
+def _corners(mask: np.ndarray) -> np.ndarray | None:
+    """The corners of a region's outer outline (Douglas-Peucker), (k, 2) x, y."""
+    cnts, _ = cv2.findContours(mask.astype(np.uint8), cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
+    if not cnts:
+        return None
+    c = max(cnts, key=len)
+    per = cv2.arcLength(c, True)
+    return cv2.approxPolyDP(c, max(1.0, CORNER_TOL * per), True)[:, 0, :].astype(np.float64)
+
+
+def _junctions(lab: np.ndarray, snap: float) -> tuple[np.ndarray, list]:
+    """Corners where three or more labels meet, on the pixel-corner lattice (as x, y pixel
+    coordinates, pixel centres at integers), those within ``snap`` of each other merged; and
+    for each merged corner the set of labels meeting there."""
+    p = np.pad(lab, 1, constant_values=0)
+    quad = np.stack([p[:-1, :-1], p[:-1, 1:], p[1:, :-1], p[1:, 1:]])
+    s = np.sort(quad, axis=0)
+    distinct = 1 + (s[1:] != s[:-1]).sum(axis=0)
+    jy, jx = np.nonzero(distinct >= 3)
+    if len(jy) == 0:
+        return np.zeros((0, 2)), []
+    pts = np.stack([jx - 0.5, jy - 0.5], axis=1).astype(np.float64)
+    parent = np.arange(len(pts))
+
+    def root(i):
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    for a, b in cKDTree(pts).query_pairs(snap):
+        ra, rb = root(a), root(b)
+        if ra != rb:
+            parent[max(ra, rb)] = min(ra, rb)
+    roots = np.array([root(i) for i in range(len(pts))])
+    out, labels = [], []
+    for r in np.unique(roots):
+        m = roots == r
+        out.append(pts[m].mean(axis=0))
+        labels.append(set(np.unique(quad[:, jy[m], jx[m]]).tolist()))
+    return np.asarray(out), labels
+
+
+def _facet_polygons(lab: np.ndarray, trunk: np.ndarray, n: int, snap: float):
+    """Each facet region's polygon: the corners where it meets two or more other regions (the
+    background, the trunk) in order round it, joined by straight edges; along the silhouette
+    the run between two such corners keeps its own corners (Douglas-Peucker at
+    :data:`RIM_TOL` of its length)."""
+    full = np.where(trunk, n + 1, lab)
+    size = max(lab.shape)
+    jpts, jlabs = _junctions(full, snap)
+    polys, owner = [], []
+    bg = ndi.binary_dilation(full == 0)
+    for j, sl in enumerate(ndi.find_objects(lab), 1):
+        if sl is None:
+            continue
+        # traced on the region doubled, so the outline runs 1/4 px inside the pixels' edges
+        # (through the rim pixels' centres a redrawn silhouette would cover them only half)
+        big = cv2.resize(np.pad(lab[sl] == j, 1).astype(np.uint8), None, fx=2, fy=2,
+                         interpolation=cv2.INTER_NEAREST)
+        cnts, _ = cv2.findContours(big, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
+        if not cnts:
+            continue
+        c = (max(cnts, key=len)[:, 0, :].astype(np.float64) + 0.5) / 2 - 0.5 \
+            + [sl[1].start - 1, sl[0].start - 1]
+        mine = [i for i, ls in enumerate(jlabs) if j in ls]
+        if len(mine) < 2:
+            per = cv2.arcLength(c.astype(np.float32).reshape(-1, 1, 2), True)
+            q = cv2.approxPolyDP(c.astype(np.float32).reshape(-1, 1, 2), max(1.0, CORNER_TOL * per), True)
+            if len(q) >= 3:
+                polys.append(q[:, 0, :].astype(np.float64))
+                owner.append(j)
+            continue
+        # each corner at its nearest contour point, in contour order
+        at = cKDTree(c).query(jpts[mine], k=1)[1]
+        order = np.argsort(at, kind="stable")
+        at, corners = at[order], jpts[np.asarray(mine)[order]]
+        ci = np.clip(np.round(c).astype(int), 0, [lab.shape[1] - 1, lab.shape[0] - 1])
+        on_rim = bg[ci[:, 1], ci[:, 0]]
+        verts = []
+        for k in range(len(at)):
+            a, b = at[k], at[(k + 1) % len(at)]
+            verts.append(corners[k])
+            run = np.r_[np.arange(a, b)] if b > a else np.r_[np.arange(a, len(c)), np.arange(0, b)]
+            if len(run) > 2 and on_rim[run].mean() > 0.5:
+                chain = np.vstack([corners[k], c[run[1:]], corners[(k + 1) % len(at)]]).astype(np.float32)
+                length = cv2.arcLength(chain.reshape(-1, 1, 2), False)
+                tol = max(1.0, min(RIM_TOL * length, RIM_MOST * size))
+                q = cv2.approxPolyDP(chain.reshape(-1, 1, 2), tol, False)[:, 0, :]
+                verts.extend(q[1:-1].astype(np.float64))
+        if len(verts) >= 3:
+            polys.append(np.asarray(verts))
+            owner.append(j)
+    return polys, owner
+
+
+def _polygonal(mask: np.ndarray) -> bool:
+    """A convex-ish polygon of at most :data:`MAX_CORNERS` corners without holes (a flat fill
+    round dots or stripes is a ground, no facet)."""
+    if ndi.binary_fill_holes(mask).sum() > 1.05 * mask.sum() + 4:
+        return False
+    pts = _corners(mask)
+    if pts is None or len(pts) > MAX_CORNERS:
+        return False
+    if len(pts) < 3:        # a sliver facet: a thin strip along one straight edge
+        return True
+    hull = cv2.convexHull(pts.astype(np.float32))
+    return cv2.contourArea(pts.astype(np.float32)) >= FACET_SOLIDITY * max(cv2.contourArea(hull), 1e-9)
+
+
+def facet_palette(image, trunk=None) -> np.ndarray | None:
+    """The facet colours of a low-poly (flat-shaded polygon) crown, or None if it is not one.
+
+    Parameters
+    ----------
+    image : (H, W, 4) array_like
+        Straight RGBA tree; opaque where alpha >= 0.5.
+    trunk : (H, W) array_like, optional
+        The trunk mask (left out of the crown); None takes every opaque pixel as crown.
+
+    Returns
+    -------
+    (k, 3) float32 ndarray or None
+        The mean colour of every polygonal facet region, when the crown has at least
+        :data:`MIN_FACETS` such regions covering :data:`FACET_COVER` of its area and rim.
+
+    Raises
+    ------
+    ValueError
+        ``trunk`` not of the image's (H, W) shape.
+
+    Examples
+    --------
+    >>> import numpy as np, cv2
+    >>> img = np.zeros((64, 64, 4), np.float32)
+    >>> for i, p in enumerate([[[8, 8], [56, 8], [8, 56]], [[56, 8], [56, 56], [8, 56]]]):
+    ...     _ = cv2.fillPoly(img, [np.int32(p)], (0.2 + 0.3 * i, 0.6, 0.2, 1.0))
+    >>> facet_palette(img) is None      # two facets: a cartoon, not low-poly
+    True
+    """
+    img = as_rgba(image, name="image")
+    crown = img[..., 3] >= 0.5
+    if trunk is not None:
+        t = np.asarray(trunk)
+        if t.shape != crown.shape:
+            raise ValueError(f"trunk must have the image's shape {crown.shape}, got {t.shape}")
+        crown &= ~(t >= 0.5)
+    area = int(crown.sum())
+    if area < 200:
+        return None
+    lab, n = _regions(img[..., :3], crown, max(12, int(0.002 * area)))
+    if n < MIN_FACETS:
+        return None
+    good = np.zeros(n + 1, bool)
+    for j, sl in enumerate(ndi.find_objects(lab), 1):
+        if sl is not None:
+            pad = np.pad(lab[sl] == j, 1)
+            good[j] = _polygonal(pad)
+    if good.sum() < MIN_FACETS:
+        return None
+    # every crown pixel to its nearest region: the anti-aliased steps belong to their facets
+    _, (iy, ix) = ndi.distance_transform_edt(lab == 0, return_indices=True)
+    near = lab[iy, ix]
+    rim = crown & ~ndi.binary_erosion(crown, structure=np.ones((3, 3), bool))
+    if good[near[crown]].mean() < FACET_COVER or good[near[rim]].mean() < FACET_COVER:
+        return None
+    ids = np.arange(n + 1)
+    cols = np.stack([ndi.mean(img[..., c], lab, ids) for c in range(3)], axis=1)
+    return np.unique(np.round(cols[good] * _QUANT) / _QUANT, axis=0).astype(np.float32)
+
+
+def straighten_facets(image, palette, trunk=None, *, sources=None):
+    """Redraw a mix's faceted crown as straight polygons (see the module notes).
+
+    Parameters
+    ----------
+    image : (H, W, 4) array_like
+        The mix (straight RGBA, binary alpha).
+    palette : (k, 3) array_like
+        The facet colours of its sources (:func:`facet_palette`).
+    trunk : (H, W) array_like, optional
+        The mix's trunk layer (>= 0.5 on the trunk), kept as it is.
+    sources : (H, W) int array_like, optional
+        Each pixel's source index (-1 transparent), carried to the redrawn pixels.
+
+    Returns
+    -------
+    image : (H, W, 4) float32 ndarray
+    sources : (H, W) int ndarray or None
+        ``sources`` with the pixels the polygons add given their nearest source.
+
+    Raises
+    ------
+    ValueError
+        ``palette`` not (k, 3), ``trunk`` or ``sources`` of another shape.
+
+    Examples
+    --------
+    >>> import numpy as np, cv2
+    >>> img = np.zeros((64, 64, 4), np.float32)
+    >>> _ = cv2.fillPoly(img, [np.int32([[8, 8], [56, 8], [8, 56]])], (0.2, 0.6, 0.2, 1.0))
+    >>> out, _ = straighten_facets(img, [(0.2, 0.6, 0.2)])
+    >>> int(np.abs(out[..., 3] - img[..., 3]).sum()) <= 40       # a straight facet stays
+    True
+    """
+    img = as_rgba(image, name="image").copy()
+    pal = np.asarray(palette, np.float32)
+    if pal.ndim != 2 or pal.shape[1] != 3 or len(pal) == 0:
+        raise ValueError(f"palette must be (k, 3) colours, got shape {pal.shape}")
+    h, w = img.shape[:2]
+    opaque = img[..., 3] >= 0.5
+    tr = np.zeros((h, w), bool)
+    if trunk is not None:
+        t = np.asarray(trunk)
+        if t.shape != (h, w):
+            raise ValueError(f"trunk must have the image's shape {(h, w)}, got {t.shape}")
+        tr = (t >= 0.5) & opaque
+    src = None
+    if sources is not None:
+        src = np.asarray(sources).astype(np.int64, copy=True)
+        if src.shape != (h, w):
+            raise ValueError(f"sources must have the image's shape {(h, w)}, got {src.shape}")
+    crown = opaque & ~tr
+    area = int(crown.sum())
+    if area < 200:
+        return img, src
+    # flat pixels of a palette colour; runs of one colour make the facet regions
+    rgb = img[..., :3]
+    d, idx = cKDTree(pal).query(rgb[crown], k=1)
+    flat = np.zeros((h, w), bool)
+    flat[crown] = d <= 1.0 / _QUANT
+    snapped = rgb.copy()
+    snapped[crown] = np.where((d <= 1.0 / _QUANT)[:, None], pal[idx], rgb[crown])
+    lab, n = _regions(snapped, crown & flat, max(8, int(0.001 * area)))
+    if n < 2:
+        return img, src
+    _, (iy, ix) = ndi.distance_transform_edt(lab == 0, return_indices=True)
+    lab = np.where(crown, lab[iy, ix], 0)
+    cols = np.zeros((n + 1, 3), np.float32)
+    for c in range(3):
+        cols[1:, c] = ndi.median(snapped[..., c], np.where(flat, lab, 0), np.arange(1, n + 1))
+    polys, owner = _facet_polygons(lab, tr, n, max(1.5, SNAP * max(h, w)))
+    if not polys:
+        return img, src
+    # draw the polygons anti-aliased on a supersampled canvas, in the crown's bounding box
+    ys, xs = np.nonzero(crown)
+    m = int(np.ceil(SNAP * max(h, w))) + 2
+    y0, y1 = max(0, ys.min() - m), min(h, ys.max() + m + 1)
+    x0, x1 = max(0, xs.min() - m), min(w, xs.max() + m + 1)
+    S = _SUPER
+    prem = np.zeros(((y1 - y0) * S, (x1 - x0) * S, 3), np.float32)
+    cov = np.zeros(((y1 - y0) * S, (x1 - x0) * S), np.float32)
+    for q, j in zip(polys, owner, strict=True):
+        # pixel centres at (x + 0.5) / S on the canvas: x supersampled = (x - x0 + 0.5) S
+        p = np.round((q - [x0, y0] + 0.5) * S - 0.5).astype(np.int32)
+        cv2.fillPoly(prem, [p], tuple(float(v) for v in cols[j]))
+        cv2.fillPoly(cov, [p], 1.0)
+    prem = cv2.resize(prem * cov[..., None], (x1 - x0, y1 - y0), interpolation=cv2.INTER_AREA)
+    cov = cv2.resize(cov, (x1 - x0, y1 - y0), interpolation=cv2.INTER_AREA)
+    box = np.zeros((h, w), np.float32)
+    box[y0:y1, x0:x1] = cov
+    col = np.zeros((h, w, 3), np.float32)
+    col[y0:y1, x0:x1] = prem / np.maximum(cov, 1e-6)[..., None]
+    # a pixel the mix had keeps when the polygons cover a fifth of it: their corners lie on the
+    # pixels' edges, at a stair-step's inner corner half a pixel inside a slanted edge's middle
+    inside = (box >= 0.5) | (crown & (box >= 0.2))
+    # thin slits between polygons (a corner Douglas-Peucker left out) and the seam with the
+    # trunk stay opaque, in the nearest polygon's colour
+    near_trunk = ndi.binary_dilation(tr, iterations=2) if tr.any() else tr
+    keep = crown & ~inside & (ndi.binary_fill_holes(inside | tr) | near_trunk)
+    # the silhouette moves by at most REACH of the size: a region traced wrong (a facet the warp
+    # tore, a corner snapped across a narrow part) cannot add a sliver or cut a notch beyond it
+    reach = max(2.0, REACH * max(h, w))
+    depth = ndi.distance_transform_edt(crown)
+    near = ndi.distance_transform_edt(~crown) <= reach
+    keep |= crown & (depth > reach)
+    new = (inside & ~tr & near) | keep
+    _, (jy, jx) = ndi.distance_transform_edt(~inside, return_indices=True)
+    out = img.copy()
+    out[new, :3] = np.where(inside[new][:, None], col[new], col[jy[new], jx[new]])
+    gone = crown & ~new
+    out[gone] = 0.0
+    out[new, 3] = 1.0
+    if src is not None:
+        had = src >= 0
+        _, (ky, kx) = ndi.distance_transform_edt(~had, return_indices=True)
+        src = np.where(new & ~had, src[ky, kx], src)
+        src[gone] = -1
+    return out, src
