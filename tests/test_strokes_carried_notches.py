@@ -16,36 +16,15 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from scipy import ndimage as ndi
+from strokes_notched import notched_flower
 
 from branchnb.strokes import edit_structure
 from branchnb.strokes.centring import centre_stroke
-from branchnb.strokes.procedural_more import flower
 
 
 def _rot(th):
     c, s = np.cos(th), np.sin(th)
     return np.array([[c, -s], [s, c]])
-
-
-def _notched(size):
-    """The flower with a 2 px notch along each petal's axis over its outer 45 %; per petal
-    the notch's middle pixels (within 0.5 px of the axis, not its last 2 px inwards)."""
-    obj = flower(size, rng=0)
-    img = obj.image.copy()
-    yy, xx = np.mgrid[0:img.shape[0], 0:img.shape[1]]
-    mids = {}
-    for k, name in enumerate(obj.names):
-        if not name.startswith("petal"):
-            continue
-        c, e = obj.strokes[k][0], obj.strokes[k][-1]
-        length = float(np.hypot(*(e - c)))
-        u = (e - c) / length
-        along = (xx - c[0]) * u[0] + (yy - c[1]) * u[1]
-        across = np.abs(-(xx - c[0]) * u[1] + (yy - c[1]) * u[0])
-        cut = np.clip(1.5 - across, 0.0, 1.0) * (along > 0.55 * length) * (obj.labels == k)
-        img[..., 3] *= (1.0 - cut).astype(np.float32)
-        mids[k] = (across <= 0.5) & (along > 0.55 * length + 2) & (obj.labels == k)
-    return obj, img, mids
 
 
 def _open_notches(alpha, mids, moves):
@@ -70,7 +49,7 @@ def _pinholes(alpha):
 @pytest.mark.parametrize("size,th", [(256, 0.3), (256, -0.3), (400, 0.3)])
 def test_a_turned_heads_notches_stay_open(size, th):
     # (main: 0 of 6 open at 256 and 400 px, 5 pinholes at 400; now 6 of 6)
-    obj, img, mids = _notched(size)
+    obj, img, mids = notched_flower(size)
     about = obj.strokes[4][0]
     parts = [obj.strokes[k] for k in range(3, 10)]  # the head and its six petals
     src = [obj.strokes[0]] + parts
@@ -85,7 +64,7 @@ def test_a_turned_heads_notches_stay_open(size, th):
 @pytest.mark.parametrize("th", [0.25, -0.25])
 def test_one_turned_petal_keeps_its_notch(th):
     # (main: the turned petal's notch closed, 5 of the 5 others open)
-    obj, img, mids = _notched(256)
+    obj, img, mids = notched_flower(256)
     stem, head, p1 = obj.strokes[0], obj.strokes[3], obj.strokes[4]
     rot = _rot(th)
     a = edit_structure(img, [stem, head, p1], [stem, head, (p1 - p1[0]) @ rot.T + p1[0]]).image[..., 3]

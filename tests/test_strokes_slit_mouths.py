@@ -19,13 +19,14 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from scipy import ndimage as ndi
+from strokes_notched import notched_flower
 
 from branchnb.strokes import Stroke, edit_structure
 from branchnb.strokes._examples import twig_parts_edit
 from branchnb.strokes.outline import _close_rim_cracks
 from branchnb.strokes.parts import _closed_by_disk, _opened_by_disk
 from branchnb.strokes.procedural import figure
-from branchnb.strokes.procedural_more import flower, hand
+from branchnb.strokes.procedural_more import hand
 
 EIGHT = np.ones((3, 3))
 
@@ -90,25 +91,6 @@ def test_disk_morphology_matches_scipy():
         assert (_closed_by_disk(p, r) == ndi.binary_closing(p, structure=disk(r))).all()
 
 
-def _notched_flower(size):
-    """The procedural flower with a 2 px notch cut along each petal's axis from its tip."""
-    obj = flower(size, rng=0)
-    img = obj.image.copy()
-    yy, xx = np.mgrid[0:img.shape[0], 0:img.shape[1]]
-    for k, name in enumerate(obj.names):
-        if not name.startswith("petal"):
-            continue
-        c, e = obj.strokes[k][0], obj.strokes[k][-1]
-        length = float(np.hypot(*(e - c)))
-        u = (e - c) / length
-        along = (xx - c[0]) * u[0] + (yy - c[1]) * u[1]
-        across = np.abs((yy - c[1]) * u[0] - (xx - c[0]) * u[1])
-        # (on the petal only: the axis runs on across a leaf)
-        cut = np.clip(1.5 - across, 0.0, 1.0) * ((along > 0.55 * length) & (obj.labels == k))
-        img[..., 3] *= 1.0 - cut
-    return obj, img
-
-
 @pytest.mark.parametrize("case", ["finger+", "finger-", "notched head+", "notched head-"])
 def test_edits_leave_no_pinholes(case):
     size = 256
@@ -119,7 +101,7 @@ def test_edits_leave_no_pinholes(case):
         th = 0.12 if case.endswith("+") else -0.12
         src, tgt = [palm, f2], [palm, (f2 - f2[0]) @ _rot(th).T + f2[0]]
     else:
-        obj, img = _notched_flower(size)
+        obj, img, _ = notched_flower(size)
         about = obj.strokes[4][0]
         parts = [obj.strokes[k] for k in range(3, 10)]  # the head and its six petals, turned
         src = [obj.strokes[0]] + parts
