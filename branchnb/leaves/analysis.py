@@ -378,7 +378,8 @@ def _retuned(analysis, changes):
 
         masks = []
         for e in range(len(a.blades)):
-            m, _ = _exemplar_mask(steps, e, combined[e], delta, tr_iou, taken[e], contrast_of)
+            m, _ = _exemplar_mask(steps, e, combined[e], delta, tr_iou, taken[e], contrast_of,
+                                  colour_e=colour[e], lam=lam)
             moved = m & taken[e]
             if moved.any():  # marks given back by their shape leave the layers above (as in induce)
                 for above in layers:

@@ -78,6 +78,7 @@ from .induction import (
     spatial_term,
 )
 from .induction_scatter import layer_coloured, scattered_layer
+from .margin_band import outline_region
 from .snapping import contrast_direction
 from .stored_maps import BoxedMaps, CombinedMaps, DistanceMaps
 
@@ -341,7 +342,8 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         new_residual = []
         kept = []
         steps_kept = _MaskSteps(user, blades, t, snapped, centred, own, own_px, ridge_px, zones, rims,
-                                outline_in_layer, inked_outline)
+                                outline_in_layer, inked_outline,
+                                band=snapped is None and not scattered and outline_region(blades[t], user))
         colour_t = np.median(labs[t][user], axis=0) if scattered else None
         # Only marks whose pixels' own colour tells them from the blade on the training leaf (not the
         # sample maples' spots of nearly the blade's colour: there the edges grew over the blade).
@@ -366,8 +368,9 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         report(step / steps, f"layer {name}: masks")
 
         def induced(e, user=user, snapped=snapped, residual=residual, labs=labs, own=own, steps_kept=steps_kept,
-                    combined=combined, delta=delta, tr_iou=tr_iou):
-            m, c = _exemplar_mask(steps_kept, e, combined[e], delta, tr_iou, taken[e], contrast_of)
+                    combined=combined, delta=delta, tr_iou=tr_iou, colour=colour, lam=lam):
+            m, c = _exemplar_mask(steps_kept, e, combined[e], delta, tr_iou, taken[e], contrast_of,
+                                  colour_e=colour[e], lam=lam)
             gone = m if snapped is None or e == t else _ridge_extension(residual, blades, t, e, user, m, stats, params,
                                                                         labs=labs, direction=own[e])
             return m, c, gone
