@@ -71,6 +71,7 @@ from .induction import (
     scaled_lengths,
 )
 from .layers import LayerSet, SnapParams, TrainingLayers, grow_layers
+from .margin_band import band_threshold
 from .own_contrast import trim_by_contrast, without_blobs  # noqa: F401
 from .stored_maps import CombinedMaps
 from .structural import MIN_FOUND, layer_standout, warn_analysis
@@ -377,9 +378,10 @@ def _retuned(analysis, changes):
                                  steps, e)
 
         masks = []
+        reach = band_threshold(colour[t], user, a.blades[t]) if steps.band else None
         for e in range(len(a.blades)):
             m, _ = _exemplar_mask(steps, e, combined[e], delta, tr_iou, taken[e], contrast_of,
-                                  colour_e=colour[e], lam=lam)
+                                  colour_e=colour[e], band_delta=reach)
             moved = m & taken[e]
             if moved.any():  # marks given back by their shape leave the layers above (as in induce)
                 for above in layers:
