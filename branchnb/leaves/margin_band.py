@@ -25,8 +25,17 @@ Here:
 * :func:`scribbled_band`: before growing, the scribbles of a layer lie in
   such a band of their own colour (then the layer is no thin line layer,
   whatever the ridge filter says of its texture);
-* :func:`layer_share`: the share of the blade a region layer covers,
-  estimated from its colours, lifts ``max_layer_fraction`` for it.
+* :func:`layer_colours`, :func:`layer_share`: the share of the blade a
+  region layer covers, estimated from its colours, lifts
+  ``max_layer_fraction`` for it;
+* :func:`band_extent`, :func:`band_threshold`: on each exemplar the band
+  induced by the paper's test (its place) grows over the parts of its
+  colour it touches (the band's inner edge wanders farther than the
+  spatial term's reach).
+
+After (``/tmp`` script, 4-6 exemplars, seeds 40 and 50): training margin
+IoU 0.97-1.00; induced 0.81-0.98 on every exemplar at 160-600 px (cream,
+white and dark green bands); the veins layer unchanged.
 """
 
 from __future__ import annotations
