@@ -71,6 +71,7 @@ from .induction import (
     scaled_lengths,
 )
 from .layers import LayerSet, SnapParams, TrainingLayers, grow_layers
+from .margin_band import band_threshold
 from .own_contrast import trim_by_contrast, without_blobs  # noqa: F401
 from .stored_maps import CombinedMaps
 from .structural import MIN_FOUND, layer_standout, warn_analysis
@@ -377,8 +378,10 @@ def _retuned(analysis, changes):
                                  steps, e)
 
         masks = []
+        reach = band_threshold(colour[t], user, a.blades[t]) if steps.band else None
         for e in range(len(a.blades)):
-            m, _ = _exemplar_mask(steps, e, combined[e], delta, tr_iou, taken[e], contrast_of)
+            m, _ = _exemplar_mask(steps, e, combined[e], delta, tr_iou, taken[e], contrast_of,
+                                  colour_e=colour[e], band_delta=reach)
             moved = m & taken[e]
             if moved.any():  # marks given back by their shape leave the layers above (as in induce)
                 for above in layers:
@@ -583,7 +586,9 @@ def scribbled_as_lines(analysis: LeafAnalysis, name: str) -> bool:
     vein strokes are 8-17, its spot dabs 0-2, simulated vein strokes of
     radius 0.5 at 192 px 2-14), else from the layer's mask
     (:func:`~branchnb.leaves.snapping.is_thin_layer`). A layer snapped to
-    the exemplars' ridges is always one.
+    the exemplars' ridges is always one; a band along the outline
+    (:func:`~branchnb.leaves.margin_band.outline_region`, a variegated
+    margin traced with long strokes) never is (beyond the paper).
 
     Parameters
     ----------
@@ -607,10 +612,17 @@ def scribbled_as_lines(analysis: LeafAnalysis, name: str) -> bool:
     >>> scribbled_as_lines(a, "veins"), scribbled_as_lines(a, "spots")
     (True, False)
     """
+    from .margin_band import outline_region
     from .snapping import is_thin_layer
     for x in analysis.layers:
         if x.name == name and x.snapped is not None:
             return True
+    t = analysis.training_index if hasattr(analysis, "training_index") else None
+    if t is not None and hasattr(analysis, "training") and name in analysis.training.masks and \
+            outline_region(analysis.blades[t], analysis.training.masks[name] & analysis.blades[t]):
+        # A band along the outline (a variegated margin) is a region whatever its strokes: its
+        # place is the paper's test (lambda, reach), not how much it stands out like a vein.
+        return False
     if analysis.layer_set is not None:
         strokes = [s for layer in analysis.layer_set.layers if layer.name == name for s in layer.scribbles]
         if strokes:

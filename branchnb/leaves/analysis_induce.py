@@ -78,6 +78,7 @@ from .induction import (
     spatial_term,
 )
 from .induction_scatter import layer_coloured, scattered_layer
+from .margin_band import band_threshold, outline_region
 from .snapping import contrast_direction
 from .stored_maps import BoxedMaps, CombinedMaps, DistanceMaps
 
@@ -341,7 +342,8 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         new_residual = []
         kept = []
         steps_kept = _MaskSteps(user, blades, t, snapped, centred, own, own_px, ridge_px, zones, rims,
-                                outline_in_layer, inked_outline)
+                                outline_in_layer, inked_outline,
+                                band=snapped is None and not scattered and outline_region(blades[t], user))
         colour_t = np.median(labs[t][user], axis=0) if scattered else None
         # Only marks whose pixels' own colour tells them from the blade on the training leaf (not the
         # sample maples' spots of nearly the blade's colour: there the edges grew over the blade).
@@ -358,6 +360,7 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
             steps_kept.claims = thread_map(partial(_claims, residuals[-2], t=t, taken=taken, stats=stats,
                                                    params=params, space=space, own_px=own_px, cdf=cdf, n_px=n_px,
                                                    blades=blades, combined=combined, colour=colour), range(n))
+        band_reach = band_threshold(colour[t], user, blades[t]) if steps_kept.band else None
         contrast = [None] * n
 
         def contrast_of(e, labs=labs, steps_kept=steps_kept):
@@ -366,8 +369,9 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         report(step / steps, f"layer {name}: masks")
 
         def induced(e, user=user, snapped=snapped, residual=residual, labs=labs, own=own, steps_kept=steps_kept,
-                    combined=combined, delta=delta, tr_iou=tr_iou):
-            m, c = _exemplar_mask(steps_kept, e, combined[e], delta, tr_iou, taken[e], contrast_of)
+                    combined=combined, delta=delta, tr_iou=tr_iou, colour=colour, reach=band_reach):
+            m, c = _exemplar_mask(steps_kept, e, combined[e], delta, tr_iou, taken[e], contrast_of,
+                                  colour_e=colour[e], band_delta=reach)
             gone = m if snapped is None or e == t else _ridge_extension(residual, blades, t, e, user, m, stats, params,
                                                                         labs=labs, direction=own[e])
             return m, c, gone

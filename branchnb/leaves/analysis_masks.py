@@ -31,7 +31,8 @@ class _MaskSteps:
     they took it (one-map :class:`~branchnb.leaves.stored_maps.BoxedMaps`; None where nothing was
     taken), for the marks they took (:func:`~branchnb.leaves.induction_scatter.reclaim_marks`);
     ``coloured`` its pixels of the layer's colour per exemplar, deciding the marks' edges
-    (:func:`~branchnb.leaves.induction_scatter.refine_edges`).
+    (:func:`~branchnb.leaves.induction_scatter.refine_edges`);
+    ``band`` whether the layer is a band along the outline (:func:`~branchnb.leaves.margin_band.outline_region`).
     """
 
     user: np.ndarray
@@ -49,6 +50,7 @@ class _MaskSteps:
     colours: dict | None = None
     claims: list | None = None
     coloured: list | None = None
+    band: bool = False
 
 
 def _contrast_map(lab_t, lab_e, steps: _MaskSteps, e: int) -> np.ndarray:
@@ -62,12 +64,15 @@ def _contrast_map(lab_t, lab_e, steps: _MaskSteps, e: int) -> np.ndarray:
         np.float32)
 
 
-def _exemplar_mask(steps: _MaskSteps, e: int, combined_e, delta: float, tr_iou: float, taken_e, contrast_of):
+def _exemplar_mask(steps: _MaskSteps, e: int, combined_e, delta: float, tr_iou: float, taken_e, contrast_of,
+                   colour_e=None, band_delta: float | None = None):
     """The induced layer on exemplar ``e`` and the contrast map it was trimmed by (or None).
 
     ``combined_e`` its ``D``, ``delta`` and ``tr_iou`` the layer's threshold and training overlap,
     ``taken_e`` what the layers above took there, ``contrast_of(e)`` the contrast map when needed
-    (:func:`_contrast_map`; computed only then).
+    (:func:`_contrast_map`; computed only then); ``colour_e`` its colour term ``S_e`` and ``band_delta``
+    the training leaf's threshold on it, for a band along the outline
+    (:func:`~branchnb.leaves.margin_band.band_extent`, :func:`~branchnb.leaves.margin_band.band_threshold`).
     """
     from .analysis_combine import COLOUR_RELIABLE, _induced, _over_induced
     from .analysis_own import _own_delta
@@ -77,6 +82,10 @@ def _exemplar_mask(steps: _MaskSteps, e: int, combined_e, delta: float, tr_iou: 
     if e == t:
         return s.user.copy(), None
     blade = s.blades[e]
+    if s.band and colour_e is not None and band_delta is not None:
+        from .margin_band import band_extent
+        m = _induced(combined_e, delta, tr_iou, s.snapped, e, blade, taken_e, centred=s.centred)
+        return band_extent(m, colour_e, band_delta, blade & ~taken_e), None
     over = s.snapped is not None and _over_induced(combined_e, delta, blade, s.user, s.blades[t])
     m = _induced(combined_e, delta, tr_iou, s.snapped, e, blade, taken_e, centred=s.centred, over=over)
     # Only where the exemplar's layer has its own colour model (re-chosen

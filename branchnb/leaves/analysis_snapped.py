@@ -7,6 +7,7 @@ import numpy as np
 
 from ..core.threads import thread_map
 from .analysis_outline import _ink_zone
+from .margin_band import outline_region
 
 
 def _snapped(residual, blades, t, user, registrations, stats, tolerance, params, *, labs=None, rgb=None):
@@ -30,7 +31,10 @@ def _snapped(residual, blades, t, user, registrations, stats, tolerance, params,
     own = [None] * len(blades)
     pixels = [None] * len(blades)
     zones = [None] * len(blades)
-    if not params.snap or not is_thin_layer(user, max_width=thin_width(blades[t], user)):
+    if not params.snap or not is_thin_layer(user, max_width=thin_width(blades[t], user)) or \
+            outline_region(blades[t], user):
+        # A band along the outline (a variegated margin, 5-7 px on a 160-px leaf) is a region, no vein:
+        # snapped as thin, it was laid onto the edge of the blade's centre beside it (induced IoU 0.01-0.17).
         return None, own, pixels, None, zones, [None] * len(blades)
     if labs is None:
         labs = [_matched_lab(r, stats, e, t, params) for e, r in enumerate(residual)]

@@ -1,0 +1,247 @@
+"""Layers that sit along the blade's outline as a band (a variegated leaf's pale margin): regions, not veins.
+
+Beyond the paper. Lazy snapping (Li et al. 2004), as the paper uses it to
+grow the training layers, caps a layer at a share of the blade
+(``SnapParams.max_layer_fraction``, 15 %), and this package routes a layer
+of thin curves to the vein snapping (:func:`~branchnb.leaves.snapping.is_thin_layer`).
+A variegated leaf's cream (white, dark green) margin band is neither: it
+covers 35-45 % of the blade, and a band 5-30 px wide round the outline is
+a ring of "curve" to those tests. Measured on procedural variegated leaves
+(ovate, toothed, a band of irregular width ~5 % of the image round a green
+centre, pale pinnate veins; margin and veins scribbled on leaf 0, 4
+exemplars, 160-600 px) before this module: training margin IoU 0.16-1.0
+(its outer half was taken for blade: the 15 % most like the layer left out
+of the background model leave the rest of the band in it), induced IoU down
+to 0.01 (the band scribbled as a thin line layer, then snapped onto the
+green centre's edge as if it were a vein).
+
+Here:
+
+* :func:`outline_region`: a layer that covers most of the blade's outline
+  and the blade next to it to a depth of :data:`BAND_DEPTH` of the leaf
+  size is a band along the outline, a region layer (it is structural: it
+  sits along the outline), never a thin one (an inked outline, 2-8 px on
+  120-1000 px leaves, covers 0.14-0.49 of that strip, a margin band 0.9-1.0);
+* :func:`scribbled_band`: before growing, the scribbles of a layer lie in
+  such a band of their own colour (then the layer is no thin line layer,
+  whatever the ridge filter says of its texture);
+* :func:`layer_colours`, :func:`layer_share`: the share of the blade a
+  region layer covers, estimated from its colours, lifts
+  ``max_layer_fraction`` for it;
+* :func:`band_extent`, :func:`band_threshold`: on each exemplar the band
+  induced by the paper's test (its place) grows over the parts of its
+  colour it touches (the band's inner edge wanders farther than the
+  spatial term's reach).
+
+After (the leaves of ``tests/test_leaves_margin_band.py``, 4-6 exemplars, several seeds): training margin
+IoU 0.97-1.00; induced 0.81-0.98 on every exemplar at 160-600 px (cream,
+white and dark green bands); the veins layer unchanged.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy import ndimage as ndi
+
+#: The strip next to the outline a band must cover, in leaf sizes (``sqrt`` of the blade's area), ...
+BAND_DEPTH = 0.04
+#: ... and in pixels at least (the line filter's widest line is 5 px: a band is wider).
+BAND_MIN_DEPTH = 3.0
+#: A band holds at least this share of the outline (its outermost pixels) ...
+RING_COVER = 0.5
+#: ... and of the strip from there to :data:`BAND_DEPTH` (an inked outline 0.14-0.49, measured).
+STRIP_COVER = 0.75
+#: ... and at most this share of the blade's core (pixels deeper than half the deepest): a band, not the blade.
+CORE_COVER = 0.5
+#: The scribbled pixels of a layer lying in its colour's band, at least this share: it was scribbled as a band.
+SCRIBBLES_IN_BAND = 0.7
+#: Largest share of the blade a region layer's estimated cover lifts ``max_layer_fraction`` to.
+MAX_SHARE = 0.6
+#: A pixel within this many times the held-out 90th-percentile distance of the layer's colours is of them.
+REACH = 3.0
+#: The estimated cover stands when the blade within twice that distance is at most this many times
+#: as much (a layer whose colours shade into the blade's has no clear cover: left at the default).
+SEPARATE = 1.15
+#: Least layer pixels for the held-out estimate.
+MIN_SAMPLES = 40
+
+
+def _depth(blade):
+    from .analysis_outline import _closed_distance
+    return _closed_distance(blade)
+
+
+def outline_region(blade, mask, *, depth=None) -> bool:
+    """Whether ``mask`` is a band along the blade's outline (a variegated margin), wider than an inked outline.
+
+    It covers at least :data:`RING_COVER` of the blade's outermost pixels
+    (within 1.5 px of the outline of the blade with its holes and paint
+    gaps closed), at least :data:`STRIP_COVER` of the strip from there to
+    ``max(BAND_MIN_DEPTH, BAND_DEPTH * size)`` px deep (``size``: the square
+    root of the blade's area) and at most :data:`CORE_COVER` of the blade's
+    core (deeper than half its deepest pixel).
+
+    Parameters
+    ----------
+    blade : (H, W) bool ndarray
+        The leaf's blade.
+    mask : (H, W) bool ndarray
+        The layer.
+    depth : (H, W) float ndarray, optional
+        Each pixel's distance to the outline (computed if None).
+
+    Returns
+    -------
+    bool
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> yy, xx = np.mgrid[:120, :120]
+    >>> blade = np.hypot(yy - 60, xx - 60) < 50
+    >>> band = blade & (np.hypot(yy - 60, xx - 60) >= 40)
+    >>> ink = blade & (np.hypot(yy - 60, xx - 60) >= 48)
+    >>> outline_region(blade, band), outline_region(blade, ink), outline_region(blade, blade)
+    (True, False, False)
+    """
+    blade = np.asarray(blade, bool)
+    mask = np.asarray(mask, bool) & blade
+    if not mask.any() or blade.sum() < 16:
+        return False
+    d = _depth(blade) if depth is None else depth
+    size = float(np.sqrt(blade.sum()))
+    ring = blade & (d <= 1.5)
+    strip = blade & (d > 1.5) & (d <= max(BAND_MIN_DEPTH, BAND_DEPTH * size))
+    core = blade & (d > 0.5 * float(d[blade].max()))
+    if not ring.any() or not strip.any() or not core.any():
+        return False
+    return bool(mask[ring].mean() >= RING_COVER and mask[strip].mean() >= STRIP_COVER
+                and mask[core].mean() <= CORE_COVER)
+
+
+def _held_out(feat_px: np.ndarray, blade_feat: np.ndarray, clusters: int, seed: int):
+    """Distances of the blade's colours to half the layer's colours' k-means centres, and the other half's."""
+    from .layers import _kmeans, _nearest
+    rng = np.random.default_rng(seed)
+    order = rng.permutation(len(feat_px))
+    fit, test = feat_px[order[::2]], feat_px[order[1::2]]
+    centres = _kmeans(fit, clusters, rng)
+    return _nearest(blade_feat, centres), _nearest(test, centres)
+
+
+def layer_colours(feat, blade, fg_px, clusters: int = 32, *, seed: int = 0):
+    """The blade pixels of the layer's colours, and the share of the blade they are: ``(near, share)``.
+
+    A pixel is of the layer's colours when it is within :data:`REACH`
+    times the 90th percentile of the held-out distances of the k-means
+    centres of half the scribbled layer pixels to the other half (fitted
+    pixels are closer to their own centres than the layer's unscribbled
+    ones, and the scribbled pixels kept for the colour model are a wide
+    layer's texture extremes, :func:`branchnb.leaves.layers._on_layer`:
+    at 1 times, 0.5-0.7 of a margin band's pixels; at 3, all). ``share`` is
+    that part of the blade, or 0 when the layer's colours shade into the
+    blade's (the blade within twice that distance is more than
+    :data:`SEPARATE` times as much) or cover more than :data:`MAX_SHARE`
+    of it: its cover is then unclear. ``near``
+    is None when there are fewer than :data:`MIN_SAMPLES` layer pixels.
+
+    The colour model draws from its own generator (``seed``): the
+    caller's stays as it was for the layers grown after this one.
+    """
+    px = feat[fg_px]
+    if len(px) < MIN_SAMPLES:
+        return None, 0.0
+    blade_feat = feat[blade]
+    d_blade, d_test = _held_out(px, blade_feat, clusters, seed)
+    tau = REACH * max(float(np.percentile(d_test, 90)), 1e-4)
+    near = np.zeros(blade.shape, bool)
+    near[blade] = d_blade <= tau
+    share = float(near[blade].mean())
+    wider = float(np.mean(d_blade <= 2.0 * tau))
+    # A cover over MAX_SHARE is no layer's: its colours are the blade's (50 scribbled pixels of
+    # anti-aliased 3-px spots on a 256-px leaf reached the whole blade, and the spots grew 28 % wider).
+    return near, (share if wider <= SEPARATE * share and share <= MAX_SHARE else 0.0)
+
+
+def layer_share(share: float, default: float) -> float:
+    """The ``max_layer_fraction`` of a region layer of estimated cover ``share``: the default, lifted to it.
+
+    Lifted to ``share`` (at most :data:`MAX_SHARE`) and never lowered:
+    a layer of small cover keeps lazy snapping's rule.
+
+    Examples
+    --------
+    >>> layer_share(0.42, 0.15), layer_share(0.05, 0.15), layer_share(0.9, 0.15)
+    (0.42, 0.15, 0.6)
+    """
+    return float(max(default, min(float(share), MAX_SHARE)))
+
+
+def scribbled_band(blade, near, marks) -> bool:
+    """Whether a layer's scribbles (``marks``) lie in a band of its colours (``near``) along the outline.
+
+    The parts of ``near`` that reach the outline must be an
+    :func:`outline_region` and hold :data:`SCRIBBLES_IN_BAND` of the
+    scribbled pixels. A vein layer's scribbles lie inside the blade (a
+    ginkgo's veins run into a rim of their hue, but are scribbled off it);
+    an inked outline scribbled as a layer is too thin for the strip.
+    """
+    if near is None or not marks.any():
+        return False
+    d = _depth(blade)
+    lab, n = ndi.label(near, structure=np.ones((3, 3), bool))
+    if n == 0:
+        return False
+    touch = np.zeros(n + 1, bool)
+    touch[np.unique(lab[near & (d <= 1.5)])] = True
+    touch[0] = False
+    along = touch[lab]
+    if float(along[marks].mean()) < SCRIBBLES_IN_BAND:
+        return False
+    return outline_region(blade, along, depth=d)
+
+
+def band_threshold(colour_t, user, blade_t) -> float:
+    """The colour term's threshold that best gives the band on the training leaf (IoU, as ``delta`` is chosen).
+
+    The colour term is read over a window (``n`` px): at the band's inner
+    edge it mixes in the centre's colour, and the paper's ``lambda + S <
+    delta`` left a 1-2 px rim of it out (induced IoU 0.78-0.82 on 160-px
+    leaves whose band is 5-7 px wide). Chosen on the training leaf, the
+    threshold takes that rim as the user's band did.
+    """
+    from .induction import choose_threshold
+    return float(choose_threshold(np.asarray(colour_t, np.float32), user, blade_t)[0])
+
+
+def band_extent(mask, colour, threshold: float, free) -> np.ndarray:
+    """A band layer's induced ``mask`` grown over the parts of the layer's colour it touches.
+
+    The paper's ``D = lambda F + S_e < delta`` holds a structural layer
+    within ``eps sqrt(ln(delta / lambda))`` of the registered training
+    layer (5-8 px on 250-450 px leaves); a variegated margin's inner edge
+    wanders 10-50 px from leaf to leaf, and the induced band stopped where
+    the training band's edge was carried (IoU 0.70-0.80 on 600-px
+    exemplars). Its place says which parts of the exemplar's colour are the
+    band; its colour says how far they reach: the pixels of ``free`` (the
+    blade less the layers above) with ``S_e`` under ``threshold``
+    (:func:`band_threshold`) joined to ``mask`` (8-connected) are added.
+    Beyond the paper, as snapping is for veins.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> colour = np.ones((1, 10)); colour[0, 2:8] = 0.0
+    >>> m = np.zeros((1, 10), bool); m[0, 2:4] = True
+    >>> band_extent(m, colour, 0.3, np.ones((1, 10), bool)).astype(int).tolist()
+    [[0, 0, 1, 1, 1, 1, 1, 1, 0, 0]]
+    """
+    mask = np.asarray(mask, bool)
+    like = np.asarray(free, bool) & (np.asarray(colour, np.float32) < np.float32(threshold))
+    lab, n = ndi.label(like | mask, structure=np.ones((3, 3), bool))
+    if n == 0:
+        return mask
+    keep = np.zeros(n + 1, bool)
+    keep[np.unique(lab[mask])] = True
+    keep[0] = False
+    return mask | (like & keep[lab])
