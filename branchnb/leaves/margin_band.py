@@ -147,6 +147,24 @@ def layer_colours(feat, blade, fg_px, clusters: int = 32, *, seed: int = 0):
 
     The colour model draws from its own generator (``seed``): the
     caller's stays as it was for the layers grown after this one.
+
+    Parameters
+    ----------
+    feat : (H, W, C) float ndarray
+        Per-pixel colour features (lazy snapping's).
+    blade : (H, W) bool ndarray
+        The leaf's blade.
+    fg_px : (H, W) bool ndarray
+        The scribbled layer pixels kept for the layer's colour model.
+    clusters : int
+        k-means centres per half of the layer's pixels.
+    seed : int
+        Seed of the k-means.
+
+    Returns
+    -------
+    near : (H, W) bool ndarray or None
+    share : float
     """
     px = feat[fg_px]
     if len(px) < MIN_SAMPLES:
@@ -169,6 +187,17 @@ def layer_share(share: float, default: float) -> float:
     Lifted to ``share`` (at most :data:`MAX_SHARE`) and never lowered:
     a layer of small cover keeps lazy snapping's rule.
 
+    Parameters
+    ----------
+    share : float
+        The layer's estimated cover of the blade (:func:`layer_colours`).
+    default : float
+        ``SnapParams.max_layer_fraction``.
+
+    Returns
+    -------
+    float
+
     Examples
     --------
     >>> layer_share(0.42, 0.15), layer_share(0.05, 0.15), layer_share(0.9, 0.15)
@@ -185,6 +214,19 @@ def scribbled_band(blade, near, marks) -> bool:
     scribbled pixels. A vein layer's scribbles lie inside the blade (a
     ginkgo's veins run into a rim of their hue, but are scribbled off it);
     an inked outline scribbled as a layer is too thin for the strip.
+
+    Parameters
+    ----------
+    blade : (H, W) bool ndarray
+        The leaf's blade.
+    near : (H, W) bool ndarray or None
+        The blade pixels of the layer's colours (:func:`layer_colours`).
+    marks : (H, W) bool ndarray
+        The layer's scribbled pixels.
+
+    Returns
+    -------
+    bool
     """
     if near is None or not marks.any():
         return False
@@ -209,6 +251,19 @@ def band_threshold(colour_t, user, blade_t) -> float:
     delta`` left a 1-2 px rim of it out (induced IoU 0.78-0.82 on 160-px
     leaves whose band is 5-7 px wide). Chosen on the training leaf, the
     threshold takes that rim as the user's band did.
+
+    Parameters
+    ----------
+    colour_t : (H, W) float ndarray
+        The colour term ``S`` on the training leaf.
+    user : (H, W) bool ndarray
+        The user's band on the training leaf.
+    blade_t : (H, W) bool ndarray
+        The training leaf's blade.
+
+    Returns
+    -------
+    float
     """
     from .induction import choose_threshold
     return float(choose_threshold(np.asarray(colour_t, np.float32), user, blade_t)[0])
@@ -227,6 +282,21 @@ def band_extent(mask, colour, threshold: float, free) -> np.ndarray:
     blade less the layers above) with ``S_e`` under ``threshold``
     (:func:`band_threshold`) joined to ``mask`` (8-connected) are added.
     Beyond the paper, as snapping is for veins.
+
+    Parameters
+    ----------
+    mask : (H, W) bool ndarray
+        The band induced on an exemplar by the paper's test.
+    colour : (H, W) float ndarray
+        The exemplar's colour term ``S_e``.
+    threshold : float
+        :func:`band_threshold`.
+    free : (H, W) bool ndarray
+        The exemplar's blade less the layers above.
+
+    Returns
+    -------
+    (H, W) bool ndarray
 
     Examples
     --------
