@@ -10,11 +10,11 @@ import warnings
 import cv2
 import numpy as np
 import pytest
+from leaves_marks import marked_leaf
 
 from branchnb.core.distance import edt
 from branchnb.leaves import Layer, LayerSet, analyze, generate, simulate_scribbles
 from branchnb.leaves.registration import register
-from leaves_marks import marked_leaf
 
 
 def _axis_deg(mask) -> float:

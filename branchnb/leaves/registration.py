@@ -96,6 +96,15 @@ Steps
    inwards). A spline that still folds the lamina is refitted stiffer
    (``fold_retries``).
 
+   **No slide across the axis** (beyond the paper, issue 22). An
+   elongated lamina without landmarks (an ovate blade without a petiole)
+   also fits its outline after sliding a quarter round along it; a start
+   whose spline turns the lamina more than ``SLIDE_TURN`` across the two
+   laminae's principal axes loses, and when every start does, the
+   best-overlapping start along the axes is refitted with the spline's
+   linear part held (``HELD_AFFINE``); see :func:`_slid`. Round laminae
+   (the sample maples: all 42 pairs' maps unchanged) are not concerned.
+
    **Speed** (beyond the paper; issue 22). The annealing loop is compiled
    (numba; the numpy loop ``_anneal`` stays as the fallback and the
    reference). While ``T >= (0.7 * stride * spacing)^2`` it runs on every
