@@ -96,6 +96,15 @@ Steps
    inwards). A spline that still folds the lamina is refitted stiffer
    (``fold_retries``).
 
+   **No slide across the axis** (beyond the paper, issue 22). An
+   elongated lamina without landmarks (an ovate blade without a petiole)
+   also fits its outline after sliding a quarter round along it; a start
+   whose spline turns the lamina more than ``SLIDE_TURN`` across the two
+   laminae's principal axes loses, and when every start does, the
+   best-overlapping start along the axes is refitted with the spline's
+   linear part held (``HELD_AFFINE``); see :func:`_slid`. Round laminae
+   (the sample maples: all 42 pairs' maps unchanged) are not concerned.
+
    **Speed** (beyond the paper; issue 22). The annealing loop is compiled
    (numba; the numpy loop ``_anneal`` stays as the fallback and the
    reference). While ``T >= (0.7 * stride * spacing)^2`` it runs on every
@@ -409,6 +418,14 @@ def register(exemplar, training, exemplar_blade=None, training_blade=None, *,
                            target_labels=lab_dst, params=prm_fit)[0]
         return tps_rpm(ce, norm(cont_t), params=prm_fit)[0]
 
+    # An elongated lamina's principal axis pins its turn up to a half turn (see _slid): a registration
+    # turned far across it slid along the outline.
+    inner_e = _interior_samples(lam_e)
+    axis = _axis_turn(lam_e, lam_t)
+
+    def slid(mat, f):
+        return axis is not None and _slid(f, mat, axis, inner_e, norm)
+
     best = None
     for mat, _ in cands:
         f1 = outline_spline(mat, prm)
@@ -427,8 +444,20 @@ def register(exemplar, training, exemplar_blade=None, training_blade=None, *,
             # rotation too; the base (petiole root) must land near the base.
             fb = f1(norm(base_e[None] @ mat[:, :2].T + mat[:, 2]))[0]
             fit += max(0.0, float(np.hypot(*(fb - norm(base_t)))) - 0.3)
+        if slid(mat, f1):
+            # A lamina turned across its axis slid along its outline (see _slid).
+            fit += 1e3
         if best is None or fit < best[0]:
             best = (fit, mat, f1)
+    if best[0] >= 1e3 and slid(best[1], best[2]):
+        # Every start slid: the best-overlapping start along the axes, refitted with the spline's
+        # linear part held near it (HELD_AFFINE; from a few times the final temperature it slid too).
+        along = [c[0] for c in cands if not _across(_rotation_deg(inner_e, inner_e @ c[0][:, :2].T), axis)]
+        if along:
+            pin = max(along, key=lambda m: _blade_iou(m, ex.blade, tr.blade))
+            f_loc = outline_spline(pin, replace(prm, lambda2_init=max(prm.lambda2_init, HELD_AFFINE)))
+            if not slid(pin, f_loc):
+                best = (0.0, pin, f_loc)
     _, start, f1 = best
     # A spline that folds the lamina over itself (Jacobian determinant <= 0)
     # is no correspondence and has no inverse: refit it stiffer until it
@@ -462,6 +491,75 @@ def register(exemplar, training, exemplar_blade=None, training_blade=None, *,
         match = _softassign(x, v, labels[1], labels[0], 1e-2, 1.0, x.mean(0), v.mean(0), prm.sinkhorn_iterations)
     return Registration(start, start_iou, splines, centre, radius, kp_e, kp_t, match,
                         ex.blade.shape, tr.blade.shape, prm.grid_step)
+
+
+#: A lamina whose principal axes' lengths differ by at least this factor has a clear axis (:func:`_axis_turn`).
+PINNED_ASPECT = 1.3
+#: ``lambda2_init`` of the outline stage refitted from a start along the axes when every start slid
+#: (:func:`_slid`): the spline's linear part held near the start's.
+HELD_AFFINE = 100.0
+#: A registration turned more than this (degrees) across the laminae's axes slid along the outline (:func:`_slid`).
+SLIDE_TURN = 45.0
+
+
+def _rotation_deg(src: np.ndarray, dst: np.ndarray) -> float:
+    """The least-squares rotation (Kabsch, degrees) taking the points ``src`` onto ``dst`` (any scale)."""
+    u, _, vt = np.linalg.svd((dst - dst.mean(0)).T @ (src - src.mean(0)))
+    if np.linalg.det(u @ vt) < 0:
+        u[:, -1] *= -1
+    r = u @ vt
+    return float(np.degrees(np.arctan2(r[1, 0], r[0, 0])))
+
+
+def _principal_axis(mask: np.ndarray):
+    """The angle (degrees) of ``mask``'s long principal axis and its aspect (axis lengths' ratio)."""
+    ys, xs = np.nonzero(mask)
+    c = np.cov(np.vstack([xs, ys]).astype(np.float64))
+    w, v = np.linalg.eigh(c)
+    aspect = float(np.sqrt(max(w[1], 1e-12) / max(w[0], 1e-12)))
+    return float(np.degrees(np.arctan2(v[1, 1], v[0, 1]))), aspect
+
+
+def _axis_turn(lam_e: np.ndarray, lam_t: np.ndarray):
+    """The turn (degrees, up to a half turn) taking the exemplar lamina's long axis onto the training
+    lamina's, or None when either has no clear axis (:data:`PINNED_ASPECT`)."""
+    a_e, r_e = _principal_axis(lam_e)
+    a_t, r_t = _principal_axis(lam_t)
+    if min(r_e, r_t) < PINNED_ASPECT:
+        return None
+    return a_t - a_e
+
+
+def _across(turn: float, axis: float) -> bool:
+    """Whether ``turn`` (degrees) lies more than :data:`SLIDE_TURN` from ``axis`` up to a half turn."""
+    d = (turn - axis + 90.0) % 180.0 - 90.0
+    return abs(d) > SLIDE_TURN
+
+
+def _slid(spline, mat, axis, inner, norm) -> bool:
+    """Whether the outline registration ``spline`` after the start ``mat`` turned the lamina's ``inner``
+    points across the laminae's long axes (``axis``: :func:`_axis_turn`).
+
+    Beyond the paper (issue 22). An outline without corners or landmarks
+    (an ovate blade without a petiole) is carried onto itself by a whole
+    family of maps that slide it along itself: the affine ``S R S^-1``
+    turns an ellipse's points a quarter round while its outline stays in
+    place, and the affine regulariser, annealed with the temperature, no
+    longer weighs at the end. On procedural ovate leaves without petioles
+    (variegated and plain, 240 px, leaves tilted by at most 14 degrees)
+    every exemplar's TPS-RPM turned its lamina 87-108 degrees, its blade
+    still overlapping the training blade at 0.97: every midrib was
+    carried across its blade, the training veins warped onto the
+    exemplars overlapped theirs at 0.05, the vein layer's liberal overlap
+    was 0 and new leaves showed midribs across their blades. An elongated
+    lamina's long axis (:data:`PINNED_ASPECT`) pins its turn up to a half
+    turn (the start's search settles which end is the tip); a registration
+    turned more than :data:`SLIDE_TURN` across it slid. Round laminae
+    (maples, palmate blades whose start may sit a lobe away) have no axis
+    and are left as they were.
+    """
+    pts = inner @ mat[:, :2].T + mat[:, 2]
+    return _across(_rotation_deg(inner, np.asarray(spline(norm(pts)))), axis)
 
 
 _KP_CACHE: dict = {}
