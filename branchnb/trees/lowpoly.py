@@ -79,6 +79,17 @@ _QUANT = 64.0
 #: Farthest a redrawn silhouette moves from the mix's, share of the tree's size (the lumps of a
 #: mixed contour of polygons stand 1-1.2 % of it off the chords between its corners).
 REACH = 0.015
+#: A facet region of any corner count, holes allowed (same-coloured neighbouring facets merged),
+#: is straight-edged when its outlines stand on average at most this many source pixels off their
+#: Douglas-Peucker polygon at :data:`STRAIGHT_TOL` source pixels: merged low-poly facets measure
+#: 0.2-0.5, curved fills (cel shading, clumps, cartoon crowns) 0.6-1.2.
+STRAIGHT_RESIDUAL = 0.5
+#: Douglas-Peucker tolerance (source pixels) of a straight-edged region's outlines.
+STRAIGHT_TOL = 3.0
+#: ... and its corners must not multiply when the tolerance is halved: a curve approximated by
+#: chords gains sqrt(3) = 1.7 times the corners from 4.5 to 1.5 px, a polygon keeps them
+#: (merged facets 1.0-1.6).
+STRAIGHT_GAIN = 1.65
 #: Supersampling of the redrawn polygons (their edges anti-aliased as the sources').
 _SUPER = 4
 
@@ -221,7 +232,27 @@ def _polygonal(mask: np.ndarray) -> bool:
     return cv2.contourArea(pts.astype(np.float32)) >= FACET_SOLIDITY * max(cv2.contourArea(hull), 1e-9)
 
 
-def facet_palette(image, trunk=None) -> np.ndarray | None:
+def _straight_edged(mask: np.ndarray, pixel: float = 1.0) -> bool:
+    """Whether every outline of a region (outer and holes) is a union of straight segments
+    (beyond the paper; :data:`STRAIGHT_RESIDUAL`, :data:`STRAIGHT_GAIN`). ``pixel`` is a source
+    pixel's size in image pixels (an enlarged source's stair-steps are that large)."""
+    cnts, _ = cv2.findContours(mask.astype(np.uint8), cv2.RETR_CCOMP, cv2.CHAIN_APPROX_NONE)
+    off = n = fine = coarse = 0
+    for c in cnts:
+        if len(c) < 8:
+            continue
+        q = cv2.approxPolyDP(c, STRAIGHT_TOL * pixel, True)
+        d = [abs(cv2.pointPolygonTest(q, (float(x), float(y)), True)) for x, y in c[:, 0]]
+        off += float(np.sum(d))
+        n += len(d)
+        fine += len(cv2.approxPolyDP(c, 0.5 * STRAIGHT_TOL * pixel, True))
+        coarse += len(cv2.approxPolyDP(c, 1.5 * STRAIGHT_TOL * pixel, True))
+    if n == 0:
+        return False
+    return off / n <= STRAIGHT_RESIDUAL * pixel and fine <= STRAIGHT_GAIN * coarse
+
+
+def facet_palette(image, trunk=None, *, pixel: float = 1.0) -> np.ndarray | None:
     """The facet colours of a low-poly (flat-shaded polygon) crown, or None if it is not one.
 
     Parameters
@@ -230,17 +261,28 @@ def facet_palette(image, trunk=None) -> np.ndarray | None:
         Straight RGBA tree; opaque where alpha >= 0.5.
     trunk : (H, W) array_like, optional
         The trunk mask (left out of the crown); None takes every opaque pixel as crown.
+    pixel : float
+        Size of one of the drawing's own pixels in ``image`` pixels (>= 1; an exemplar enlarged
+        to the working size has stair-steps that large).
 
     Returns
     -------
     (k, 3) float32 ndarray or None
-        The mean colour of every polygonal facet region, when the crown has at least
+        The mean colour of every polygonal (or straight-edged) facet region, when the crown has at least
         :data:`MIN_FACETS` such regions covering :data:`FACET_COVER` of its area and rim.
 
     Raises
     ------
     ValueError
-        ``trunk`` not of the image's (H, W) shape.
+        ``trunk`` not of the image's (H, W) shape, ``pixel`` below 1.
+
+    Notes
+    -----
+    Beyond trees49 (issue 24, trees50): low-poly art often shades neighbouring triangles alike,
+    so same-coloured facets merge into non-convex regions of many corners, some round others
+    (holes). Such a region counts as a facet when its outlines are straight-edged
+    (:func:`_straight_edged`): close to their Douglas-Peucker polygon and with corners that do
+    not multiply at a finer tolerance, as a curve's do.
 
     Examples
     --------
@@ -252,6 +294,8 @@ def facet_palette(image, trunk=None) -> np.ndarray | None:
     True
     """
     img = as_rgba(image, name="image")
+    if not np.isfinite(pixel) or pixel < 1:
+        raise ValueError(f"pixel must be a number >= 1, got {pixel}")
     crown = img[..., 3] >= 0.5
     if trunk is not None:
         t = np.asarray(trunk)
@@ -268,7 +312,7 @@ def facet_palette(image, trunk=None) -> np.ndarray | None:
     for j, sl in enumerate(ndi.find_objects(lab), 1):
         if sl is not None:
             pad = np.pad(lab[sl] == j, 1)
-            good[j] = _polygonal(pad)
+            good[j] = _polygonal(pad) or _straight_edged(pad, float(pixel))
     if good.sum() < MIN_FACETS:
         return None
     # every crown pixel to its nearest region: the anti-aliased steps belong to their facets
