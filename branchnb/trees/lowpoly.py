@@ -82,7 +82,8 @@ REACH = 0.015
 #: A facet region of any corner count, holes allowed (same-coloured neighbouring facets merged),
 #: is straight-edged when its outlines stand on average at most this many source pixels off their
 #: Douglas-Peucker polygon at :data:`STRAIGHT_TOL` source pixels: merged low-poly facets measure
-#: 0.2-0.5, curved fills (cel shading, clumps, cartoon crowns) 0.6-1.2.
+#: 0.25-0.55, curved fills (cel shading, clumps, cartoon crowns) 0.52-1.1 (each outline on its own,
+#: a region's anti-aliased steps included).
 STRAIGHT_RESIDUAL = 0.5
 #: Douglas-Peucker tolerance (source pixels) of a straight-edged region's outlines.
 STRAIGHT_TOL = 3.0
@@ -246,19 +247,19 @@ def _straight_edged(mask: np.ndarray, pixel: float = 1.0) -> bool:
     (beyond the paper; :data:`STRAIGHT_RESIDUAL`, :data:`STRAIGHT_GAIN`). ``pixel`` is a source
     pixel's size in image pixels (an enlarged source's stair-steps are that large)."""
     cnts, _ = cv2.findContours(mask.astype(np.uint8), cv2.RETR_CCOMP, cv2.CHAIN_APPROX_NONE)
-    off = n = fine = coarse = 0
+    n = fine = coarse = 0
     for c in cnts:
         if len(c) < 8:
             continue
         q = cv2.approxPolyDP(c, STRAIGHT_TOL * pixel, True)
         d = [abs(cv2.pointPolygonTest(q, (float(x), float(y)), True)) for x, y in c[:, 0]]
-        off += float(np.sum(d))
-        n += len(d)
+        # every outline on its own: round dots in a flat ground are holes, but no straight ones
+        if np.mean(d) > STRAIGHT_RESIDUAL * pixel:
+            return False
+        n += 1
         fine += len(cv2.approxPolyDP(c, 0.5 * STRAIGHT_TOL * pixel, True))
         coarse += len(cv2.approxPolyDP(c, 1.5 * STRAIGHT_TOL * pixel, True))
-    if n == 0:
-        return False
-    return off / n <= STRAIGHT_RESIDUAL * pixel and fine <= STRAIGHT_GAIN * coarse
+    return n > 0 and fine <= STRAIGHT_GAIN * coarse
 
 
 def facet_palette(image, trunk=None, *, pixel: float = 1.0) -> np.ndarray | None:
@@ -317,16 +318,21 @@ def facet_palette(image, trunk=None, *, pixel: float = 1.0) -> np.ndarray | None
     lab, n = _regions(img[..., :3], crown, max(12, int(0.002 * area)))
     if n < MIN_FACETS:
         return None
-    good = np.zeros(n + 1, bool)
-    for j, sl in enumerate(ndi.find_objects(lab), 1):
-        if sl is not None:
-            pad = np.pad(lab[sl] == j, 1)
-            good[j] = _polygonal(pad) or _straight_edged(pad, float(pixel))
-    if good.sum() < MIN_FACETS:
-        return None
     # every crown pixel to its nearest region: the anti-aliased steps belong to their facets
     _, (iy, ix) = ndi.distance_transform_edt(lab == 0, return_indices=True)
     near = lab[iy, ix]
+    whole = np.where(crown, near, 0)
+    good = np.zeros(n + 1, bool)
+    for j, sl in enumerate(ndi.find_objects(lab), 1):
+        if sl is not None:
+            good[j] = _polygonal(np.pad(lab[sl] == j, 1))
+    # a region of merged facets is judged with its anti-aliased steps: its outline is then the
+    # middle of the steps, not their ragged inner edge
+    for j, sl in enumerate(ndi.find_objects(whole), 1):
+        if sl is not None and not good[j]:
+            good[j] = _straight_edged(np.pad(whole[sl] == j, 1), float(pixel))
+    if good.sum() < MIN_FACETS:
+        return None
     rim = crown & ~ndi.binary_erosion(crown, structure=np.ones((3, 3), bool))
     if good[near[crown]].mean() < FACET_COVER or good[near[rim]].mean() < FACET_COVER:
         return None
