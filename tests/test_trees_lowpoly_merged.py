@@ -101,7 +101,8 @@ def seam_straightness(img, crown, tol=1.0, min_len=0.06):
 
 
 def _trunk(img):
-    return (np.abs(img[..., :3] - [0.42, 0.27, 0.15]).sum(-1) < 0.06) | (np.abs(img[..., :3] - [0.30, 0.19, 0.10]).sum(-1) < 0.06)
+    rgb = img[..., :3]
+    return (np.abs(rgb - [0.42, 0.27, 0.15]).sum(-1) < 0.06) | (np.abs(rgb - [0.30, 0.19, 0.10]).sum(-1) < 0.06)
 
 
 @pytest.mark.parametrize("size", [128, 256])
