@@ -259,6 +259,12 @@ def _pixel_mix(image: np.ndarray, exemplars: Sequence[Exemplar], cw: np.ndarray,
     return out, src, tr
 
 
+def _source_pixel(exemplar: Exemplar) -> float:
+    """Size of a source pixel in working pixels (1 when the source was shrunk)."""
+    norm = getattr(exemplar, "normalized", None)
+    return max(1.0, float(getattr(norm, "scale", 1.0)))
+
+
 def _exemplar_facets(exemplar: Exemplar):
     """:func:`~branchnb.trees.lowpoly.facet_palette` of an exemplar's crown (cached on it)."""
     if "facets" not in exemplar._cages:
@@ -270,7 +276,8 @@ def _exemplar_facets(exemplar: Exemplar):
         from .sticker import _exemplar_border
 
         exemplar._cages["facets"] = (None if exemplar_outline(exemplar).outlined or _exemplar_border(exemplar)
-                                     is not None else facet_palette(exemplar.image, exemplar.trunk))
+                                     is not None else facet_palette(exemplar.image, exemplar.trunk,
+                                                                     pixel=_source_pixel(exemplar)))
     return exemplar._cages["facets"]
 
 

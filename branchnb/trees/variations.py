@@ -57,6 +57,7 @@ from .corners import _fill_tips, _polygonal, _tip_matched
 from .flat_art import (
     FLAT_ART_SHARE,
     _drawing_group,
+    _exemplar_facets,
     _facet_mix,
     _ink_outline,
     _one_piece,
@@ -504,6 +505,9 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     s = exemplars[0].size
     mode = resolve_colour_mode(p.colour_mode, [exemplars[i] for i in used])
     pixel = mode == "choose" and len(used) > 1 and _pixel_arts([exemplars[i] for i in used]) is not None
+    # low-poly crowns drawn without anti-aliasing pass for pixel art (hard edges, few flat colours);
+    # their facets are redrawn straight below instead of re-gridded (trees50, issue 24)
+    pixel = pixel and not all(_exemplar_facets(exemplars[i]) is not None for i in used)
     # Outlined and pixel-art mixes are coloured without the rim correction (below).
     inked = pixel or any(_drawing_group(exemplars[i]) & 1 for i in used)
     # Beyond the paper: matched crown tips share an index, so tips meet tips (corners.py). On
