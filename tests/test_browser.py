@@ -285,8 +285,14 @@ def test_tour_canvas_drag_reaches_kernel(lab, chromium, tmp_path):
                 if got["n"] > n_before:
                     break
                 time.sleep(0.5)
-            if canvas.bounding_box() == box:
+            # a box measured while the canvas still had its backing-store size puts the stroke at twice its
+            # place (seen once under CI load: (307, 229) for (154, 116)): dragged again once the box is steady
+            h_img, w_img = got["shape"]
+            landed = (got["n"] > n_before and len(got["pts"]) > 0
+                      and np.allclose(got["pts"][0], (0.30 * w_img, 0.25 * h_img), atol=0.03 * w_img))
+            if canvas.bounding_box() == box and landed:
                 break
+            time.sleep(1.0)
         assert got["n"] == n_before + 1, f"the kernel did not receive the stroke: {got}"
         pts = np.array(got["pts"])
         h, w = got["shape"]
