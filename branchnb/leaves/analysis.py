@@ -358,7 +358,9 @@ def _retuned(analysis, changes):
         colours = old.steps.colours if old.steps is not None and old.steps.colours else {old.neighbourhood: old.colour}
         for n_px, colour in colours.items():
             # The window the induction would keep with these parameters (its rule: the best training IoU).
-            got = _combine(colour, old.distance, lengths, tolerance, params, a.blades, a.registrations, t, user)
+            liberal = old.steps.liberal.get(n_px) if old.steps is not None and old.steps.liberal else None
+            got = _combine(colour, old.distance, lengths, tolerance, params, a.blades, a.registrations, t, user,
+                           liberal=liberal)
             if best is None or got[4] > best[0][4] + 1e-9:
                 best = (got, n_px, colour)
         (lam, overlap, combined, delta, tr_iou), n_px, colour = best

@@ -13,7 +13,7 @@ from ..core.validate import check_bool, check_real
 from .induction import choose_threshold, layer_weight, liberal_layer, spatial_term
 from .induction_scatter import TIE_LEVEL, positional_tie, scattered_layer
 
-__all__ = ["registration_tolerance", "warp_mask"]
+__all__ = ["registration_tolerance", "unmatched_liberal", "warp_mask"]
 
 
 def warp_mask(registration, mask, *, to_training: bool, level: float = 0.5) -> np.ndarray:
@@ -158,8 +158,13 @@ def _over_induced(combined, delta, blade, user, blade_t) -> bool:
 SINGLES_OUT = 0.5
 
 
-def _combine(colour, dist, lengths, tolerance, params, blades, registrations, t, user):
+def _combine(colour, dist, lengths, tolerance, params, blades, registrations, t, user, liberal=None):
     """Eqs. 2-4 from the colour terms and distance maps: ``lambda``, ``D`` per exemplar, ``delta``.
+
+    ``liberal`` (optional, per exemplar a map or None): the colour term the
+    liberal layer of that exemplar is read on instead of ``colour[e]``
+    (:func:`unmatched_liberal`, an exemplar's own colours where the matched
+    ones find none of the layer); ``D`` always takes ``colour``.
 
     Beyond the paper (issue 22): ``lambda`` is 0 for marks at random places
     (:mod:`~branchnb.leaves.induction_scatter`): the user's layer is
@@ -176,7 +181,8 @@ def _combine(colour, dist, lengths, tolerance, params, blades, registrations, t,
     liberal_t, spat = [], []
     for e in range(len(colour)):
         eps_px, _, lib_r = lengths[e]
-        lib = liberal_layer(colour[e], dist[e], params.liberal_threshold, max(lib_r, tolerance), blades[e])
+        s_lib = colour[e] if liberal is None or liberal[e] is None else liberal[e]
+        lib = liberal_layer(s_lib, dist[e], params.liberal_threshold, max(lib_r, tolerance), blades[e])
         lib_t = lib if e == t else _liberal_to_training(registrations[e], lib)
         liberal_t.append(lib_t & blades[t])
         spat.append(spatial_term(dist[e], colour[e], eps_px))
@@ -195,6 +201,72 @@ def _combine(colour, dist, lengths, tolerance, params, blades, registrations, t,
     combined = [(np.float32(lam) * f + s).astype(np.float32) for f, s in zip(spat, colour)]
     delta, tr_iou = choose_threshold(combined[t], user, blades[t])
     return lam, overlap, combined, delta, tr_iou
+
+
+#: An exemplar whose liberal layer (matched colours) holds under this share of the training leaf's, per
+#: blade area, found none of the layer in its matched colours (:func:`unmatched_liberal`).
+LIBERAL_EMPTY = 0.1
+
+
+def unmatched_liberal(colour, dist, lengths, tolerance, params, blades, t, own_colour):
+    """The colour terms the liberal layers are read on: an exemplar's own colours where the matched find none.
+
+    Beyond the paper (issue 22). Colour matching moves each blade's CIELAB
+    onto the training blade's mean and spread, assuming a layer's colour
+    moves with its blade's. A blade whose statistics move for another
+    reason breaks that for the liberal layers, which use the strict
+    ``liberal_threshold``: a variegated leaf's cream band (its share of the
+    blade varies, mean L* 64.7 on the training leaf, 70.4 on another) moved
+    the pale veins 5.6 L* units off, and a flat green blade's tiny b*
+    spread (0.1-0.8) moved them 4.6 b* units. No pixel of two of four
+    exemplars came under the threshold (S_e at least 0.11-0.14 everywhere),
+    the intersection of the liberal layers was empty and ``lambda`` 0
+    though the veins sat at the same place on every leaf and were induced
+    with IoU 0.94-0.99. Such an exemplar (its liberal layer under
+    :data:`LIBERAL_EMPTY` of the training leaf's, per blade area) has its
+    liberal layer read in its own, unmatched colours (the lower of the two
+    terms); ``D`` keeps the matched term. Exemplars whose matched colours
+    find the layer keep the paper's liberal layer.
+
+    Parameters
+    ----------
+    colour : list of (H, W) ndarray
+        ``S_e`` per exemplar (matched colours).
+    dist : list of (H, W) ndarray
+        ``||x, c||`` per exemplar.
+    lengths : list of tuple
+        :func:`~branchnb.leaves.induction.scaled_lengths` per exemplar.
+    tolerance : float
+        :func:`registration_tolerance`.
+    params : InductionParams
+        ``liberal_threshold`` is read.
+    blades : list of (H, W) bool ndarray
+        The exemplars' blades.
+    t : int
+        The training leaf.
+    own_colour : callable(e) -> (H, W) ndarray
+        ``S_e`` of exemplar ``e`` in its own colours (called only for the exemplars that need it).
+
+    Returns
+    -------
+    list or None
+        Per exemplar the map for :func:`_combine`'s ``liberal`` (None: its
+        ``colour``), or None when every exemplar keeps its matched term.
+    """
+    def liberal(e, s):
+        return liberal_layer(s, dist[e], params.liberal_threshold, max(lengths[e][2], tolerance), blades[e])
+
+    per_area_t = float(np.count_nonzero(liberal(t, colour[t]))) / max(float(np.count_nonzero(blades[t])), 1.0)
+    if per_area_t <= 0:
+        return None
+    out = [None] * len(colour)
+    for e in range(len(colour)):
+        if e == t:
+            continue
+        expected = per_area_t * float(np.count_nonzero(blades[e]))
+        if np.count_nonzero(liberal(e, colour[e])) < LIBERAL_EMPTY * expected:
+            out[e] = np.minimum(np.asarray(colour[e]), np.asarray(own_colour(e))).astype(np.float32)
+    return out if any(x is not None for x in out) else None
 
 
 #: Liberal layers carried into the training frame, by registration and mask

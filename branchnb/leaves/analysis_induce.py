@@ -29,6 +29,7 @@ from .analysis_combine import (  # noqa: F401  (importable from here as before)
     _liberal_to_training,
     _over_induced,
     registration_tolerance,
+    unmatched_liberal,
     warp_mask,
 )
 from .analysis_masks import _contrast_map, _exemplar_mask, _MaskSteps
@@ -78,7 +79,7 @@ from .induction import (
     spatial_term,
 )
 from .induction_scatter import layer_coloured, scattered_layer
-from .margin_band import band_threshold, outline_region
+from .margin_band import band_coloured, band_threshold, outline_region
 from .snapping import contrast_direction
 from .stored_maps import BoxedMaps, CombinedMaps, DistanceMaps
 
@@ -315,15 +316,27 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         # A scattered layer's windows leave out what the layers above took: their removal filled it
         # from around, and beside a vein that was the marks' own colour (hole rims on a midrib).
         counted = [b if e == t or not scattered else b & ~taken[e] for e, b in enumerate(blades)]
-        tried = {}
+        tried, liberal_tried = {}, {}
+        q_own = {}
+
+        def own_colour(e, n_px, seen=seen, cdf=cdf, counted=counted, q_own=q_own):
+            # The exemplar's unmatched colours against the training layer's model (the liberal layer only).
+            if e not in q_own:
+                q_own[e] = _quantise_lab(_lab(seen[e]), space)
+            return colour_similarity(q_own[e], counted[e], cdf, n_px,
+                                     weights=space.weights if params.lab_units else None)
+
         for n_px in candidates:
             report(step / steps, f"layer {name}: colour and space terms ({n_px} px window)")
             colour = thread_map(lambda e, n_px=n_px, q=q, own_px=own_px, cdf=cdf, counted=counted: colour_similarity(
                 q[e], counted[e], _own_cdf(q[e], own_px[e], cdf, space.bins), n_px,
                 weights=space.weights if params.lab_units else None), range(n))
+            lib_colour = unmatched_liberal(colour, dist, lengths, tolerance, params, blades, t,
+                                           partial(own_colour, n_px=n_px)) if params.match_colours else None
             lam, overlap, combined, delta, tr_iou = _combine(colour, dist, lengths, tolerance, params, blades,
-                                                             registrations, t, user)
+                                                             registrations, t, user, liberal=lib_colour)
             tried[n_px] = colour
+            liberal_tried[n_px] = lib_colour
             if best is None or tr_iou > best[0] + 1e-9:
                 best = (tr_iou, n_px, colour, lam, overlap, combined, delta)
         step += n
@@ -335,8 +348,10 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
             if redo is not colour:
                 own_read = [e for e in range(n) if redo[e] is not colour[e]]
                 colour = redo
+                liberal_tried[n_px] = unmatched_liberal(colour, dist, lengths, tolerance, params, blades, t,
+                                                        partial(own_colour, n_px=n_px))
                 lam, overlap, combined, delta, tr_iou = _combine(colour, dist, lengths, tolerance, params, blades,
-                                                                 registrations, t, user)
+                                                                 registrations, t, user, liberal=liberal_tried[n_px])
                 tried[n_px] = colour
         masks = []
         new_residual = []
@@ -361,6 +376,16 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
                                                    params=params, space=space, own_px=own_px, cdf=cdf, n_px=n_px,
                                                    blades=blades, combined=combined, colour=colour), range(n))
         band_reach = band_threshold(colour[t], user, blades[t]) if steps_kept.band else None
+        if steps_kept.band:
+            # Each pixel's own colour takes the rim the windowed colour term leaves at the band's edge
+            # (:func:`~branchnb.leaves.margin_band.band_rim`).
+            layer_c = np.median(labs[t][user], axis=0)
+            rest_t = blades[t] & ~user & ~taken[t]
+            if rest_t.any():
+                blade_c = np.median(labs[t][rest_t], axis=0)
+                steps_kept.band_coloured = [None if e == t else band_coloured(labs[e], blades[e], layer_c, blade_c)
+                                            for e in range(n)]
+                steps_kept.band_reach = int(n_px)
         contrast = [None] * n
 
         def contrast_of(e, labs=labs, steps_kept=steps_kept):
@@ -400,6 +425,7 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         colour_kept = BoxedMaps(colour, blades, 1.0)
         # Every window's S_e, so a retune picks the window as the induction would (:func:`_retuned`).
         steps_kept.colours = {k: colour_kept if k == n_px else BoxedMaps(c, blades, 1.0) for k, c in tried.items()}
+        steps_kept.liberal = {k: v for k, v in liberal_tried.items() if v is not None} or None
         dist_kept = DistanceMaps(reg_user)
         out.append(LayerInduction(name, lam, overlap, delta, tr_iou, masks, colour_kept,
                                   CombinedMaps(lam, colour_kept, dist_kept, eps_list),

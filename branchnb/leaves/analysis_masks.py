@@ -32,7 +32,11 @@ class _MaskSteps:
     taken), for the marks they took (:func:`~branchnb.leaves.induction_scatter.reclaim_marks`);
     ``coloured`` its pixels of the layer's colour per exemplar, deciding the marks' edges
     (:func:`~branchnb.leaves.induction_scatter.refine_edges`);
-    ``band`` whether the layer is a band along the outline (:func:`~branchnb.leaves.margin_band.outline_region`).
+    ``band`` whether the layer is a band along the outline (:func:`~branchnb.leaves.margin_band.outline_region`);
+    ``liberal`` per neighbourhood the colour terms its liberal layers were read on where an exemplar's
+    own colours stood in (:func:`~branchnb.leaves.analysis_combine.unmatched_liberal`; None: none did);
+    ``band_coloured``/``band_reach`` a band's pixels of its colour per exemplar and how far from the
+    band they join it (:func:`~branchnb.leaves.margin_band.band_rim`).
     """
 
     user: np.ndarray
@@ -51,6 +55,9 @@ class _MaskSteps:
     claims: list | None = None
     coloured: list | None = None
     band: bool = False
+    liberal: dict | None = None
+    band_coloured: list | None = None
+    band_reach: int = 0
 
 
 def _contrast_map(lab_t, lab_e, steps: _MaskSteps, e: int) -> np.ndarray:
@@ -83,9 +90,12 @@ def _exemplar_mask(steps: _MaskSteps, e: int, combined_e, delta: float, tr_iou: 
         return s.user.copy(), None
     blade = s.blades[e]
     if s.band and colour_e is not None and band_delta is not None:
-        from .margin_band import band_extent
+        from .margin_band import band_extent, band_rim
         m = _induced(combined_e, delta, tr_iou, s.snapped, e, blade, taken_e, centred=s.centred)
-        return band_extent(m, colour_e, band_delta, blade & ~taken_e), None
+        m = band_extent(m, colour_e, band_delta, blade & ~taken_e)
+        if s.band_coloured is not None and s.band_coloured[e] is not None:
+            m = band_rim(m, s.band_coloured[e], blade & ~taken_e, s.band_reach)
+        return m, None
     over = s.snapped is not None and _over_induced(combined_e, delta, blade, s.user, s.blades[t])
     m = _induced(combined_e, delta, tr_iou, s.snapped, e, blade, taken_e, centred=s.centred, over=over)
     # Only where the exemplar's layer has its own colour model (re-chosen
