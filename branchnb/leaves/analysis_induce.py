@@ -79,7 +79,7 @@ from .induction import (
     spatial_term,
 )
 from .induction_scatter import layer_coloured, scattered_layer
-from .margin_band import band_coloured, band_threshold, outline_region
+from .margin_band import band_coloured, band_rim, band_threshold, outline_region
 from .snapping import contrast_direction
 from .stored_maps import BoxedMaps, CombinedMaps, DistanceMaps
 
@@ -383,8 +383,7 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
             rest_t = blades[t] & ~user & ~taken[t]
             if rest_t.any():
                 blade_c = np.median(labs[t][rest_t], axis=0)
-                steps_kept.band_coloured = [None if e == t else band_coloured(labs[e], blades[e], layer_c, blade_c)
-                                            for e in range(n)]
+                steps_kept.band_coloured = [band_coloured(labs[e], blades[e], layer_c, blade_c) for e in range(n)]
                 steps_kept.band_reach = int(n_px)
         contrast = [None] * n
 
@@ -399,6 +398,10 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
                                   colour_e=colour[e], band_delta=reach)
             gone = m if snapped is None or e == t else _ridge_extension(residual, blades, t, e, user, m, stats, params,
                                                                         labs=labs, direction=own[e])
+            if e == t and steps_kept.band_coloured is not None:
+                # The training leaf keeps the user's band; its removal takes the rim of the band's colour the
+                # user's strokes left (it stayed in the residual, a background of new leaves).
+                gone = band_rim(m, steps_kept.band_coloured[t], blades[t] & ~taken[t], steps_kept.band_reach)
             return m, c, gone
 
         for e, (m, contrast[e], gone) in enumerate(thread_map(induced, range(n))):

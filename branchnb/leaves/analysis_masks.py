@@ -36,7 +36,7 @@ class _MaskSteps:
     ``liberal`` per neighbourhood the colour terms its liberal layers were read on where an exemplar's
     own colours stood in (:func:`~branchnb.leaves.analysis_combine.unmatched_liberal`; None: none did);
     ``band_coloured``/``band_reach`` a band's pixels of its colour per exemplar and how far from the
-    band they join it (:func:`~branchnb.leaves.margin_band.band_rim`).
+    band they join it (:func:`~branchnb.leaves.margin_band.band_rim`; the training leaf's for its removal only).
     """
 
     user: np.ndarray
