@@ -45,14 +45,14 @@ def variegated_240():
 
 
 def test_veins_keep_their_positional_tie_beside_a_band(variegated_240):
-    """main: lambda 0.0 (liberal overlap 0); now 0.23, the veins' and the band's masks as good."""
+    """main: lambda 0.0 (liberal overlap 0); now 0.23, the veins' masks as good, the band's better."""
     leaves, a = variegated_240
     veins, margin = a.layer("veins"), a.layer("margin")
     assert veins.lam > 0.1
     truth = [_on_canvas(leaves[e][2], a.offsets[e], a.blades[e].shape, a.mirrored[e]) for e in range(4)]
     assert min(iou(veins.masks[e], truth[e]) for e in range(4)) >= 0.9
     band = [_on_canvas(leaves[e][1], a.offsets[e], a.blades[e].shape, a.mirrored[e]) for e in range(4)]
-    # main 0.86-0.87: the colour term's window left the band's inner rim out (now 0.91-0.93).
+    # main 0.86-0.87: the colour term's window left the band's inner rim out (now >= 0.9).
     assert min(iou(margin.masks[e], band[e]) for e in range(4)) >= 0.89
     # A retune with the same parameters reads the same liberal layers.
     assert a.retune(kappa=a.params.kappa).layer("veins").lam == pytest.approx(veins.lam)

@@ -38,7 +38,13 @@ Here:
 
 After (the leaves of ``tests/test_leaves_margin_band.py``, 4-6 exemplars, several seeds): training margin
 IoU 0.97-1.00; induced 0.81-0.98 on every exemplar at 160-600 px (cream,
-white and dark green bands); the veins layer unchanged.
+white and dark green bands); the veins layer unchanged. With :func:`band_rim`
+(leaves78; the variegated leaves of ``tests/test_leaves_variegated.py``, seeds 40-45):
+induced 0.81-0.82 -> 0.87-0.92 at 160 px, 0.86-0.90 -> 0.94-0.96 at 240 px (6 exemplars),
+0.84-0.94 -> 0.86-0.95 at 600 px; cream share of new leaves' green cores (eroded 3 px; the
+exemplars 0) 0.0043 -> 0.0032 at 160 px, 0.0048 -> 0.0022 at 240 px, 0.015 -> 0.008 at 400 px,
+unchanged (0.018) at 600 px: long threads along the pasted band's edge there, on main too, whose
+source is not the residual's rim (open).
 """
 
 from __future__ import annotations
