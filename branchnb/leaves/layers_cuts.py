@@ -40,22 +40,31 @@ def _beta(diff2: np.ndarray) -> float:
 
 
 def _refine(mask, feat, blade, fg_px, bg_px, fg_c, bg_c, prior, smoothness: float, line=None,
-            line_weight: float = 0.0) -> np.ndarray:
+            line_weight: float = 0.0, distances=None) -> np.ndarray:
     """Pixel-level graph cut over the whole blade (lazy snapping's second step).
 
     Data term: the pixel's own colour costs plus ``prior`` (per pixel:
     the weight times the superpixel's colour confidence) for the
     superpixel labelling (so the superpixels steady the cut, while a layer
     thinner than a superpixel, a one-pixel vein, can still be found).
+    ``distances``: ``(d_F, d_B)`` of the blade pixels (``feat[blade]``) to
+    ``fg_c`` and ``bg_c`` when the caller has them (the same values).
     """
     rows, cols = np.nonzero(blade)
     r0, r1, c0, c1 = rows.min(), rows.max() + 1, cols.min(), cols.max() + 1
     f = feat[r0:r1, c0:c1]
     reg = blade[r0:r1, c0:c1]
     shp = reg.shape
-    flat = f.reshape(-1, f.shape[2])
-    d_f = _nearest(flat, fg_c).reshape(shp)
-    d_b = _nearest(flat, bg_c).reshape(shp)
+    if distances is None:
+        flat = f.reshape(-1, f.shape[2])
+        d_f = _nearest(flat, fg_c).reshape(shp)
+        d_b = _nearest(flat, bg_c).reshape(shp)
+    else:
+        # Only the blade's costs are read (the rest of the box is pinned to the background).
+        d_f = np.zeros(shp, np.float32)
+        d_b = np.zeros(shp, np.float32)
+        d_f[reg] = distances[0]
+        d_b[reg] = distances[1]
     tot = d_f + d_b + 1e-6
     m = mask[r0:r1, c0:c1]
     pr = np.broadcast_to(np.asarray(prior, float), mask.shape)[r0:r1, c0:c1]
