@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from scipy import ndimage as ndi
 
-from branchnb.leaves import flatart, prepared
+from branchnb.leaves import flatart, prepared, prepared_fill
 
 
 def _leaf(h=120, w=160, seed=0):
@@ -32,19 +32,19 @@ def _reference_bleed(img, mask):
 def test_bleed_searches_nearest_colours_on_the_rings_box_only(monkeypatch):
     img, blade = _leaf()
     seen = []
-    real = prepared.extend_nearest
+    real = prepared_fill.extend_nearest  # the module _bleed lives in (re-exported by prepared)
 
     def spy(values, known):
         seen.append(np.asarray(known).shape)
         return real(values, known)
 
-    monkeypatch.setattr(prepared, "extend_nearest", spy)
+    monkeypatch.setattr(prepared_fill, "extend_nearest", spy)
     out = prepared._bleed(img, blade)
     ring = ndi.binary_dilation(blade, iterations=2)
     rows, cols = np.flatnonzero(ring.any(1)), np.flatnonzero(ring.any(0))
     assert seen == [(rows[-1] - rows[0] + 1, cols[-1] - cols[0] + 1)]
     assert seen[0][0] * seen[0][1] < 0.6 * blade.size
-    monkeypatch.setattr(prepared, "extend_nearest", real)
+    monkeypatch.setattr(prepared_fill, "extend_nearest", real)
     np.testing.assert_array_equal(out, _reference_bleed(img, blade))
 
 

@@ -122,6 +122,10 @@ def rows(quick: bool = False) -> list[BenchRow]:
                         "main 20.20 s, threads 18.65 s, one thread 18.56 s; threaded jobs 10.1 of 18.2 s CPU, "
                         "estimated overlap on 2 idle cores 2.5-5.0 s: unloaded wall ~13-16 s; measured wall "
                         "25.8 s at load ~10; "
+                        "layers split pass (lazy snapping without np.union1d's and np.unique's sorts, the pixel "
+                        "cut's colour distances reused): grow_layers on the 1 MP training leaf 1.88 -> 1.61 s CPU, "
+                        "whole analysis same-load CPU A/B at load ~40: 19.11 -> 19.15 s (within the noise), "
+                        "identical layers; "
                         "the paper: several minutes"))
     # The per-analysis preparation (stage images bled, layers completed, petioles), paid by the first leaf.
     t_prep = timeit(lambda: generate(a, 1, rng=0), repeat=1, warmup=False)

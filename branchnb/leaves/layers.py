@@ -27,26 +27,52 @@ Tang & Shum 2004), the tool the paper names for this step:
 
 Layers have a user-set ``order`` (0 = top). Where two grown layers overlap
 the upper one keeps the pixel; the background (blade) is what remains.
+
+The steps live in their own modules: the scribbles in
+:mod:`branchnb.leaves.layers_scribbles`, the colour models in
+:mod:`branchnb.leaves.layers_colours`, the graph cuts in
+:mod:`branchnb.leaves.layers_cuts`, thin line layers in
+:mod:`branchnb.leaves.layers_lines`; this module runs them
+(:func:`grow_layers`) and re-exports their names.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-import cv2
 import maxflow
-import numba
 import numpy as np
-from scipy import ndimage as ndi
 from skimage.color import rgb2lab
 from skimage.segmentation import slic
 
 from ..core.image import as_mask, as_rgb
-from ..core.morphology import _binary_dilation, _binary_opening, fill_holes
 from ..core.params import check_params, param
-from ..core.validate import brief, check_int, check_real, check_shape
 from ._lines import _line_channel, _ridges
 from .analysis_outline import _unscribbled_outline
+
+# Lazy snapping's steps, one module each; every name importable from here as before.
+from .layers_colours import _kmeans, _local_contrast, _nearest, _nearest_nb  # noqa: F401
+from .layers_cuts import _HARD, _LINE_PENALTY, _beta, _refine, _superpixel_graph  # noqa: F401
+from .layers_lines import (  # noqa: F401
+    _DENSE_LINES,
+    _NARROW_LONG,
+    _OFF_LINE,
+    _OFF_LINE_REACH,
+    _OFF_LINE_SIDES,
+    _ON_LINE,
+    _ON_LINE_ABOVE,
+    _ON_LINE_KEEP,
+    _off_lines,
+    _on_line_pins,
+)
+from .layers_scribbles import (  # noqa: F401
+    _RING_SPLIT,
+    MAX_SCRIBBLES,
+    _check_scribbles,
+    _on_layer,
+    scribble_mask,
+    simulate_scribbles,
+)
 from .margin_band import layer_colours, layer_share, scribbled_band
 
 # The user's scribbles and layers (the data model) live in .scribbles; importable from here as before.
@@ -55,22 +81,8 @@ from .scribbles import Layer, LayerSet, Scribble, _as_scribble, _check_dict, _ch
 __all__ = ["Scribble", "Layer", "LayerSet", "SnapParams", "TrainingLayers",
            "scribble_mask", "grow_layers", "simulate_scribbles"]
 
-_HARD = 1e9
-#: Cost of "layer" off a line, relative to the cost of "blade" on one (thin line layers).
-_LINE_PENALTY = 0.3
-#: Line strength below which a pixel of a thin line layer's blade is off every line (background model).
-_OFF_LINE = 0.05
-#: Pixels this close (px, 4-connected steps) to a possible line pixel may still be layer (background model).
-_OFF_LINE_REACH = 3
-#: ... or within the square root of the blade's area over this many px (a large leaf's wide veins).
-_OFF_LINE_SIDES = 25.0
-#: A narrow part of the blade (a petiole) covers at least this many squares of its half width.
-_NARROW_LONG = 6.0
-#: A ring around a scribble splits in two (blade, other veins) when its halves' medians are this many
-#: times the blade half's spread apart (its 90th percentile, its median; :func:`_on_layer`).
-_RING_SPLIT = (2.5, 6.0)
-#: Scribbles one call of :func:`simulate_scribbles` may make (a user draws 10-15 per layer).
-MAX_SCRIBBLES = 10_000
+#: A thin line layer's scribbled pixels between its lines left unpinned (:func:`_on_line_pins`).
+_ON_LINE_PINS = True
 
 
 @dataclass
@@ -164,245 +176,6 @@ class TrainingLayers:
     background: np.ndarray
     order: list
     superpixels: np.ndarray
-
-
-def scribble_mask(scribbles, shape) -> np.ndarray:
-    """Rasterise scribbles (capsules of their brush radius) into an (H, W) bool mask.
-
-    Parameters
-    ----------
-    scribbles : iterable of Scribble or (N, 2) array_like
-        The strokes (an array is a Scribble of radius 2).
-    shape : (int, int)
-        ``(H, W)`` of the mask.
-
-    Returns
-    -------
-    (H, W) bool ndarray
-        True under some stroke; parts outside the image are clipped.
-
-    Examples
-    --------
-    >>> m = scribble_mask([Scribble([(2, 2), (8, 2)], 1.0)], (5, 12))
-    >>> bool(m[2, 2:9].all()), bool(m[4].any())
-    (True, False)
-    """
-    h, w = check_shape(shape, "shape")
-    if scribbles is None or isinstance(scribbles, (str, bytes)) or not hasattr(scribbles, "__iter__"):
-        raise TypeError(f"scribbles must be an iterable of Scribble or (N, 2) point arrays, got {brief(scribbles)}")
-    out = np.zeros((h, w), np.uint8)
-    for s in scribbles:
-        s = _as_scribble(s, "scribbles")
-        pts = np.round(s.points * 16).astype(np.int32)
-        # OpenCV refuses strokes over 32767 px thick (a radius changed after the Scribble checked it)
-        thick = min(max(1, int(round(2 * s.radius))), 32767)
-        if len(pts) == 1:
-            cv2.circle(out, tuple(int(v) for v in pts[0]), int(round(min(s.radius, 1e6) * 16)), 1, -1,
-                       lineType=cv2.LINE_8, shift=4)
-        else:
-            cv2.polylines(out, [pts.reshape(-1, 1, 2)], False, 1, thickness=thick,
-                          lineType=cv2.LINE_8, shift=4)
-    return out.astype(bool)
-
-
-def _check_scribbles(layer_set: LayerSet, blade: np.ndarray) -> tuple[dict, dict]:
-    """Rasterise and validate every scribble: name -> union mask, and name -> one mask per scribble."""
-    shape = blade.shape
-    out, each = {}, {}
-    groups = [(x.name, f"layer_set.layers[{x.name!r}]", x.scribbles) for x in layer_set.layers]
-    groups.append(("blade", "layer_set.background", layer_set.background))
-    seen: dict = {}
-    silhouette = None
-    for name, label, scribbles in groups:
-        m = np.zeros(shape, bool)
-        each[name] = []
-        for i, s in enumerate(scribbles):
-            p = s.points
-            key = (np.round(p, 3).tobytes(), round(float(s.radius), 3))
-            if key in seen and seen[key][0] != name:
-                raise ValueError(f"{label}.scribbles[{i}] is the same stroke as {seen[key][1]}: one stroke cannot "
-                                 "mark two layers (or a layer and the background)")
-            seen.setdefault(key, (name, f"{label}.scribbles[{i}]"))
-            if (p[:, 0] < -0.5).any() or (p[:, 0] > shape[1] - 0.5).any() or \
-                    (p[:, 1] < -0.5).any() or (p[:, 1] > shape[0] - 0.5).any():
-                raise ValueError(f"{label}.scribbles[{i}] leaves the image ({shape[1]} x {shape[0]} px)")
-            si = scribble_mask([s], shape)
-            # Inside the leaf's outline counts as on the leaf: a stroke along a vein the blade
-            # mask left out (a hole) is no mistake. A stroke mostly off the leaf is one (another
-            # image's coordinates, a forgotten offset): refused with its name, not clipped to a
-            # few pixels the user did not mean. The off-blade part of the others is dropped.
-            if silhouette is None:
-                silhouette = fill_holes(blade)
-            on = (si & silhouette).sum()
-            if on < 0.5 * si.sum():
-                raise ValueError(f"{label}.scribbles[{i}] lies outside the leaf "
-                                 f"({int(on)} of {int(si.sum())} pixels on the leaf)")
-            m |= si & blade
-            each[name].append(si & blade)
-        out[name] = m
-    return out, each
-
-
-def _on_layer(each: list, feat: np.ndarray, blade: np.ndarray) -> np.ndarray:
-    """The pixels of each scribble that mark its layer.
-
-    A scribble drawn with a brush wider than its layer (a 3-px stroke on a
-    1-px vein) covers plain blade as well: its pixels unlike a ring of
-    blade 2-5 px around it (farther from the ring's median than 90 % of
-    the ring's own pixels) are what it marks. (Half of its pixels, the
-    rule before, put a third of plain blade into a thin vein's colour
-    model.) Scribbles too short for a ring keep every pixel; a scribble
-    inside a layer wider than the ring (a big spot) stands out from
-    nothing and keeps the half most unlike the ring.
-    """
-    out = np.zeros(blade.shape, bool)
-    h, w = blade.shape
-    whole = np.median(feat[blade], axis=0)
-    for m in each:
-        ys, xs = np.nonzero(m)
-        if len(ys) < 4:
-            out |= m
-            continue
-        # The ring on the scribble's window (6 px beyond it: the 5-step
-        # dilation reaches 5), the same pixels as on the whole image.
-        y0, y1 = max(ys.min() - 6, 0), min(ys.max() + 7, h)
-        x0, x1 = max(xs.min() - 6, 0), min(xs.max() + 7, w)
-        mc, fc = m[y0:y1, x0:x1], feat[y0:y1, x0:x1]
-        ring = _binary_dilation(mc, iterations=5) & ~_binary_dilation(mc, iterations=2) & blade[y0:y1, x0:x1]
-        if ring.sum() < 4:
-            out |= m
-            continue
-        rc = fc[ring]
-        ref = np.median(rc, axis=0)
-        spread = float(np.percentile(np.sqrt(((rc - ref) ** 2).sum(1)), 90))
-        # Parallel veins 3-5 px apart (a 96-px strip) fill half of a ring:
-        # its median colour lay between vein and blade, its spread reached
-        # the veins, and half of a stroke, plain blade, joined the layer's
-        # colours (the layer grew over the blade between the veins). Where
-        # the ring splits in two clearly apart (its half nearer the whole
-        # blade's median colour, and the rest), that half is the blade
-        # around. A streaked, shaded blade's ring varies smoothly: no split.
-        to_blade = ((rc - whole) ** 2).sum(1)
-        near = to_blade <= np.median(to_blade)
-        if near.sum() >= 4 and (~near).sum() >= 4:
-            ref_near = np.median(rc[near], axis=0)
-            d_near = np.sqrt(((rc[near] - ref_near) ** 2).sum(1))
-            gap = float(np.sqrt(((np.median(rc[~near], axis=0) - ref_near) ** 2).sum()))
-            # Measured gap / spread (90th percentile, median): a 96-px
-            # strip's rings 2.8-4.3 and 6.9-11.7; streaked, shaded grass
-            # blades (tests/test_leaves_layers.py) 1.1-2.5 and 2.3-5.5.
-            if gap > _RING_SPLIT[0] * max(float(np.percentile(d_near, 90)), 1e-3) and \
-                    gap > _RING_SPLIT[1] * max(float(np.median(d_near)), 1e-3):
-                ref, spread = ref_near, float(np.percentile(d_near, 90))
-        px = fc[mc]  # row-major, as np.nonzero(m)
-        d = np.sqrt(((px - ref) ** 2).sum(1))
-        keep = d > spread
-        if keep.sum() < max(2, 0.1 * len(d)):
-            keep = d >= np.median(d)
-        out[ys[keep], xs[keep]] = True
-    return out
-
-
-def _local_contrast(feat: np.ndarray, blade: np.ndarray, radius: float) -> np.ndarray:
-    """Each pixel's colour minus the blade's median colour around it (``radius`` px, blade only).
-
-    A photographed leaf is lit unevenly: a pale vein on the dark side of
-    the blade has the colour of plain blade on the bright side, and a
-    colour model alone grows the vein layer over the bright side. What
-    stays constant is how the vein stands out from the blade next to it.
-    A median, not a mean: a layer covering much of a neighbourhood (dense
-    ink lines) would make its own surroundings and stand out from nothing.
-    The median is taken on a grid reduced so the window is 7 cells wide
-    (shading is smooth), over the cells that are mostly blade.
-    """
-    from ..core.image import extend_nearest
-
-    h, w = blade.shape
-    f = max(1.0, float(radius) / 3.0)
-    small = (max(1, int(round(w / f))), max(1, int(round(h / f))))
-    # Cells of the reduced grid: the blade's mean colour where they are
-    # mostly blade; the rest take no part (the backdrop and the outline
-    # drawn around a blade are not "the blade around").
-    cover = cv2.resize(blade.astype(np.float32), small, interpolation=cv2.INTER_AREA)
-    lo = cv2.resize(np.where(blade[..., None], feat, 0).astype(np.float32), small, interpolation=cv2.INTER_AREA)
-    inside = cover > 0.5
-    if not inside.any():
-        return np.zeros_like(feat)
-    lo = np.where(inside[..., None], lo / np.maximum(cover, 1e-6)[..., None], np.nan)
-    win = np.lib.stride_tricks.sliding_window_view(np.pad(lo, ((3, 3), (3, 3), (0, 0)), constant_values=np.nan),
-                                                   (7, 7), axis=(0, 1))
-    with np.errstate(all="ignore"):
-        import warnings
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", RuntimeWarning)
-            med = np.nanmedian(win.reshape(win.shape[:3] + (-1,)), axis=-1)
-    med = extend_nearest(np.nan_to_num(med), np.isfinite(med).all(-1)).astype(np.float32)
-    around = cv2.resize(med, (w, h), interpolation=cv2.INTER_LINEAR)
-    return np.where(blade[..., None], feat - around, 0).astype(np.float32)
-
-
-def _kmeans(samples: np.ndarray, k: int, rng: np.random.Generator) -> np.ndarray:
-    samples = np.asarray(samples, np.float32)
-    if len(samples) > 20000:
-        samples = samples[rng.choice(len(samples), 20000, replace=False)]
-    # About ten samples per centre at least: with a few hundred scribbled
-    # pixels, one centre per pixel would make every stray pixel under a
-    # scribble (a brush wider than a vein also covers blade) a colour of the
-    # model, and the layer would grow into everything like it.
-    k = int(min(k, len(np.unique(samples.round(1), axis=0)), max(1, len(samples) // 10)))
-    if k <= 1:
-        return samples.mean(axis=0, keepdims=True)
-    crit = (cv2.TERM_CRITERIA_EPS + cv2.TERM_CRITERIA_MAX_ITER, 20, 0.1)
-    cv2.setRNGSeed(int(rng.integers(2**31)))
-    _, _, centres = cv2.kmeans(samples, k, None, crit, 2, cv2.KMEANS_PP_CENTERS)
-    return centres
-
-
-def _nearest(colours: np.ndarray, centres: np.ndarray) -> np.ndarray:
-    """Distance of each colour to its nearest centre (compiled, one pixel at a time, no temporaries).
-
-    Summed as ``|c - centre|^2`` in float64: at most ~1e-3 Lab units from
-    the ``|c|^2 - 2 c.centre + |centre|^2`` of float32 matrix products it
-    replaced (which cancel on bright colours), 10x faster at a megapixel.
-    """
-    c = np.ascontiguousarray(colours, np.float32).reshape(len(colours), -1)
-    k = np.ascontiguousarray(centres, np.float32).reshape(len(centres), -1)
-    return _nearest_nb(c, k)
-
-
-@numba.njit(cache=True, nogil=True)
-def _nearest_nb(colours, centres):  # pragma: no cover - compiled
-    n, d = colours.shape
-    out = np.empty(n, np.float32)
-    for i in range(n):
-        best = np.inf
-        for a in range(centres.shape[0]):
-            s = 0.0
-            for j in range(d):
-                t = np.float64(colours[i, j]) - np.float64(centres[a, j])
-                s += t * t
-            if s < best:
-                best = s
-        out[i] = np.sqrt(best)
-    return out
-
-
-def _superpixel_graph(labels: np.ndarray, n: int):
-    """Pairs of 4-adjacent superpixels and the length of their shared border."""
-    pairs = []
-    for a, b in ((labels[:, :-1], labels[:, 1:]), (labels[:-1, :], labels[1:, :])):
-        m = (a != b) & (a > 0) & (b > 0)
-        pairs.append(np.stack([a[m], b[m]], 1))
-    p = np.concatenate(pairs)
-    p.sort(axis=1)
-    key = p[:, 0].astype(np.int64) * (n + 1) + p[:, 1]
-    uniq, counts = np.unique(key, return_counts=True)
-    return np.stack([uniq // (n + 1), uniq % (n + 1)], 1), counts.astype(np.float64)
-
-
-def _beta(diff2: np.ndarray) -> float:
-    m = float(np.mean(diff2)) if diff2.size else 1.0
-    return 1.0 / (2.0 * max(m, 1e-6))
 
 
 def grow_layers(image, blade, layer_set: LayerSet, params: SnapParams | None = None, *,
@@ -519,9 +292,12 @@ def grow_layers(image, blade, layer_set: LayerSet, params: SnapParams | None = N
                enforce_connectivity=True, convert2lab=False)
     sp = np.zeros((h, w), np.int64)
     sp[r0:r1, c0:c1] = box
-    _, inv = np.unique(sp[blade], return_inverse=True)
+    # The labels the blade keeps, renumbered 1..n in their order (np.unique's inverse, without its sort).
+    vals = sp[blade]
+    present = np.zeros(int(vals.max()) + 1, bool)
+    present[vals] = True
     sp = np.zeros((h, w), np.int64)
-    sp[blade] = inv.ravel() + 1
+    sp[blade] = np.cumsum(present)[vals]
     n = int(sp.max())
     idx = sp[blade]
     area = np.bincount(idx, minlength=n + 1).astype(np.float64)
@@ -576,7 +352,10 @@ def grow_layers(image, blade, layer_set: LayerSet, params: SnapParams | None = N
             # (128 px ginkgo) 1-px veins running into a yellow rim put the
             # rim's own colour in the 15 % left out, and the layer grew
             # into the rim (training vein IoU 0.47, induced 0.41-0.49).
-            far = np.union1d(far, np.flatnonzero(_off_lines(line, ridges, fg_px, blade)[blade]))
+            # (np.union1d's sorted indices, by a mask: the union's sort was a tenth of the layer at 1 MP.)
+            keep = _off_lines(line, ridges, fg_px, blade)[blade]
+            keep[far] = True
+            far = np.flatnonzero(keep)
         bg_samples = np.concatenate([blade_feat[far], feat[others]])
         bg_c = _kmeans(bg_samples, params.clusters, rng)
         d_b_blade = _nearest(blade_feat, bg_c)
@@ -612,7 +391,7 @@ def grow_layers(image, blade, layer_set: LayerSet, params: SnapParams | None = N
             # evidence was clear: |E1(fg) - E1(bg)| per pixel of the superpixel.
             conf = np.abs(e_fg - e_bg) / np.maximum(area, 1.0)
             mask = _refine(mask, feat, blade, fg_px, others, fg_c, bg_c, prior * conf[sp],
-                           params.smoothness, line, params.line_weight)
+                           params.smoothness, line, params.line_weight, distances=(d_f_blade, d_b_blade))
         if line is not None:
             # A drawn leaf's ink outline is a line like a vein: not grown into a thin layer nobody scribbled there.
             if ink is None:
@@ -626,216 +405,3 @@ def grow_layers(image, blade, layer_set: LayerSet, params: SnapParams | None = N
         masks[name] = masks[name] & ~taken
         taken |= masks[name]
     return TrainingLayers(masks, blade, blade & ~taken, [x.name for x in layer_set.ordered()], sp)
-
-
-#: A thin line layer's scribbled pixels between its lines left unpinned (:func:`_on_line_pins`).
-_ON_LINE_PINS = True
-#: ... kept where its strength is at least this or the pixel stands out at least
-#: _ON_LINE_ABOVE times as much as the scribbled pixels do.
-_ON_LINE = 0.25
-_ON_LINE_ABOVE = 0.5
-#: ... unless fewer than this share of the scribbled layer pixels are left (then all are kept).
-_ON_LINE_KEEP = 0.3
-#: ... and only where the lines (strength 0.5 or more) cover at least this share of the blade.
-_DENSE_LINES = 0.15
-
-
-def _on_line_pins(fg_px: np.ndarray, line: np.ndarray, ridges: np.ndarray, blade: np.ndarray) -> np.ndarray:
-    """The scribbled layer pixels of a thin line layer, without those between its lines (beyond lazy snapping).
-
-    Radius-1 strokes over parallel veins 3-5 px apart (a 96-px strip)
-    leave plain blade between the veins among the pixels :func:`_on_layer`
-    keeps: its ring around each stroke is mostly other veins. Pinned to the
-    layer, those pixels took the blade between the scribbled veins into it
-    and into its colour model (faint veins, 20 % darker than the blade:
-    training IoU 0.32-0.48, 9-16 % of the layer more than 1 px off every
-    vein; induced on the other leaves 0.44-0.49). Kept: pixels on a line
-    (strength at least :data:`_ON_LINE`) or standing out from the blade
-    around them at least :data:`_ON_LINE_ABOVE` as much as the scribbled
-    pixels do (the inside of a vein wider than the line filter). Only
-    where the lines are dense (at least :data:`_DENSE_LINES` of the blade
-    at half strength or more: small leaves, 14-29 % measured on 96-128 px
-    strips, lobed and elliptic leaves): on a sparse venation
-    the scribbles' off-line pixels are the flanks of wider veins the user
-    meant (the sample maple, 8 %: its vein layer lost a quarter of its
-    pixels and the induced veins' IoU with the hand tracing fell 0.48 ->
-    0.32 without this). All are kept when under :data:`_ON_LINE_KEEP` of
-    them would be left, or when the scribbles do not lie on lines (their
-    median line strength under 0.5: strokes over a plain blade).
-    """
-    if float(np.count_nonzero((np.asarray(line) >= 0.5) & blade)) < _DENSE_LINES * max(np.count_nonzero(blade), 1):
-        return fg_px
-    # only scribbles that lie on the lines: strokes along veins painted out of a plain blade (median
-    # line strength 0.00 on them, 0.70-1.00 on real veins) would keep only the grain's ridges they cross,
-    # and the layer grew along those into one that stands out (structural where it is not)
-    if float(np.median(np.asarray(line)[fg_px])) < 0.5:
-        return fg_px
-    k = 1 if np.median(ridges[..., 3][fg_px]) > np.median(ridges[..., 2][fg_px]) else 0
-    above = ridges[..., 2 + k]
-    lift = max(float(np.median(above[fg_px])), 1e-6)
-    on = fg_px & ((np.asarray(line) >= _ON_LINE) | (above >= _ON_LINE_ABOVE * lift))
-    if on.sum() < max(4, _ON_LINE_KEEP * fg_px.sum()):
-        return fg_px
-    return on
-
-
-def _off_lines(line: np.ndarray, ridges: np.ndarray, fg_px: np.ndarray, blade: np.ndarray) -> np.ndarray:
-    """Pixels that cannot be part of a thin line layer: off every line and not standing out as its lines do.
-
-    Off a line: line strength below ``_OFF_LINE``. Standing out: at least
-    half as much darker (lighter) than the blade around it (11 px) as the
-    scribbled pixels are; the inside of a vein wider than the line filter
-    (a 4-px midrib) answers no line filter but stands out, a pale rim of
-    the layer's hue does neither.
-    """
-    k = 1 if np.median(ridges[..., 3][fg_px]) > np.median(ridges[..., 2][fg_px]) else 0
-    above = ridges[..., 2 + k]
-    lift = max(float(np.median(above[fg_px])), 1e-6)
-    possible = (np.asarray(line) >= _OFF_LINE) | (above >= 0.5 * lift)
-    # A vein fading below the line filter (its tip, a faint stretch) keeps
-    # its colour out of the background model where it continues a line.
-    # The reach grows with the leaf: a large leaf's main veins are wider
-    # than the line filter, and their insides stand out less.
-    reach = max(_OFF_LINE_REACH, int(round(np.sqrt(blade.sum()) / _OFF_LINE_SIDES)))
-    # Narrow parts of the blade (a petiole, as wide as a vein and with no
-    # blade around it to stand out from) are not sure either.
-    half = max(2, reach // 2)
-    disk = np.hypot(*np.mgrid[-half:half + 1, -half:half + 1]) <= half
-    narrow = blade & ~_binary_opening(blade, disk)
-    # Only long narrow parts: a sharp corner of the blade leaves a small
-    # tip here (and a pale rim grown from it was the fault this rule mends).
-    lab, n = ndi.label(narrow)
-    if n:
-        area = np.bincount(lab.ravel(), minlength=n + 1)
-        long = area >= _NARROW_LONG * half * half
-        long[0] = False
-        narrow = long[lab]
-    return ~(_binary_dilation(possible, iterations=reach) | narrow)
-
-
-def _refine(mask, feat, blade, fg_px, bg_px, fg_c, bg_c, prior, smoothness: float, line=None,
-            line_weight: float = 0.0) -> np.ndarray:
-    """Pixel-level graph cut over the whole blade (lazy snapping's second step).
-
-    Data term: the pixel's own colour costs plus ``prior`` (per pixel:
-    the weight times the superpixel's colour confidence) for the
-    superpixel labelling (so the superpixels steady the cut, while a layer
-    thinner than a superpixel, a one-pixel vein, can still be found).
-    """
-    rows, cols = np.nonzero(blade)
-    r0, r1, c0, c1 = rows.min(), rows.max() + 1, cols.min(), cols.max() + 1
-    f = feat[r0:r1, c0:c1]
-    reg = blade[r0:r1, c0:c1]
-    shp = reg.shape
-    flat = f.reshape(-1, f.shape[2])
-    d_f = _nearest(flat, fg_c).reshape(shp)
-    d_b = _nearest(flat, bg_c).reshape(shp)
-    tot = d_f + d_b + 1e-6
-    m = mask[r0:r1, c0:c1]
-    pr = np.broadcast_to(np.asarray(prior, float), mask.shape)[r0:r1, c0:c1]
-    cost_fg = d_f / tot + pr * (~m)
-    cost_bg = d_b / tot + pr * m
-    if line is not None:
-        # A thin line layer: a pixel pays for being on a line as blade, and
-        # less (_LINE_PENALTY) for being off one as layer: a vein wider than
-        # the filter (a petiole) or fainter than the scribbled ones still
-        # joins the layer by its colour.
-        lc = np.asarray(line, np.float32)[r0:r1, c0:c1]
-        cost_fg = cost_fg + _LINE_PENALTY * line_weight * (1.0 - lc)
-        cost_bg = cost_bg + line_weight * lc
-    pin_f = fg_px[r0:r1, c0:c1]
-    pin_b = (~reg | bg_px[r0:r1, c0:c1]) & ~pin_f
-    g = maxflow.Graph[float]()
-    ids = g.add_grid_nodes(shp)
-    dr = ((f[:, 1:] - f[:, :-1]) ** 2).sum(2)
-    dd = ((f[1:] - f[:-1]) ** 2).sum(2)
-    beta = _beta(np.concatenate([dr[reg[:, 1:] & reg[:, :-1]], dd[reg[1:] & reg[:-1]]]))
-    wr = np.zeros(shp)
-    wr[:, :-1] = smoothness * np.exp(-beta * dr)
-    wd = np.zeros(shp)
-    wd[:-1] = smoothness * np.exp(-beta * dd)
-    g.add_grid_edges(ids, weights=wr, structure=np.array([[0, 0, 0], [0, 0, 1], [0, 0, 0]]), symmetric=True)
-    g.add_grid_edges(ids, weights=wd, structure=np.array([[0, 0, 0], [0, 0, 0], [0, 1, 0]]), symmetric=True)
-    src = np.where(reg, cost_bg, 0.0) + np.where(pin_f, _HARD, 0.0)
-    snk = np.where(reg, cost_fg, 0.0) + np.where(pin_b, _HARD, 0.0)
-    g.add_grid_tedges(ids, src, snk)
-    g.maxflow()
-    fg = ~g.get_grid_segments(ids)
-    out = np.zeros_like(mask)
-    out[r0:r1, c0:c1] = fg & reg
-    return out
-
-
-def simulate_scribbles(mask, n: int = 12, *, length: float = 20.0, radius: float | None = None,
-                       rng=None) -> list[Scribble]:
-    """Short scribbles along a known layer mask: a stand-in user for measuring.
-
-    Each scribble follows the mask's skeleton (junctions removed) for about
-    ``length`` pixels from a random skeleton pixel, with a brush radius of
-    at most half the local width (so it stays on the layer), as a user
-    tracing a vein or dabbing a spot would.
-
-    Parameters
-    ----------
-    mask : (H, W) bool array_like
-        The layer (e.g. a procedural leaf's ground-truth veins).
-    n : int
-        Number of scribbles (the paper: 10-15 per layer).
-    length : float
-        Scribble length in pixels.
-    radius : float, optional
-        Brush radius; by default half the local width, clipped to [0.5, 3].
-    rng : int or Generator
-        Picks each scribble's start pixel on the skeleton.
-
-    Returns
-    -------
-    list of Scribble
-        ``n`` scribbles on ``mask``.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> m = np.zeros((30, 60), bool); m[14:17, 5:55] = True
-    >>> ss = simulate_scribbles(m, 3, length=10, rng=0)
-    >>> len(ss), bool(scribble_mask(ss, m.shape)[~m].sum() == 0)
-    (3, True)
-    """
-    from skimage.morphology import skeletonize
-
-    from ..core.random import as_rng
-    mask = as_mask(mask, name="mask")
-    if not mask.any():
-        raise ValueError("mask is empty: nothing to scribble on")
-    n = check_int(n, "n", 1, MAX_SCRIBBLES)
-    length = check_real(length, "length", 0.0, 1e6, low_open=True)
-    radius = check_real(radius, "radius", 0.0, 1e6, low_open=True, allow_none=True)
-    rng = as_rng(rng)
-    skel = skeletonize(mask)
-    if not skel.any():
-        skel = mask.copy()
-    nb = ndi.convolve(skel.astype(np.int32), np.ones((3, 3), np.int32), mode="constant") - 1
-    path = skel & (nb <= 2)
-    if not path.any():
-        path = skel
-    dist = ndi.distance_transform_edt(mask)
-    lab, _ = ndi.label(path, structure=np.ones((3, 3)))
-    ys, xs = np.nonzero(path)
-    out = []
-    for _ in range(int(n)):
-        i = int(rng.integers(len(xs)))
-        x0, y0 = xs[i], ys[i]
-        near = (lab[ys, xs] == lab[y0, x0]) & ((xs - x0) ** 2 + (ys - y0) ** 2 <= (length / 2) ** 2)
-        px, py = xs[near].astype(float), ys[near].astype(float)
-        r = radius
-        if r is None:
-            r = float(np.clip(0.5 * dist[py.astype(int), px.astype(int)].min(), 0.5, 3.0))
-        if len(px) < 2:
-            out.append(Scribble([(x0, y0)], r))
-            continue
-        pts = np.stack([px, py], 1)
-        c = pts - pts.mean(0)
-        axis = np.linalg.svd(c, full_matrices=False)[2][0]
-        pts = pts[np.argsort(c @ axis)]
-        out.append(Scribble(pts[:: max(1, len(pts) // 8)] if len(pts) > 8 else pts, r))
-    return out

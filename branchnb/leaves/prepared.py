@@ -7,192 +7,38 @@ training frame and every exemplar's (with the exemplar's pose taken out,
 step 3), each exemplar's own petiole (step 5) and the median registration
 error (:func:`registration_errors`) the random warps are measured in.
 Built once per analysis and cached on it.
-"""
 
+The helpers live in :mod:`branchnb.leaves.prepared_fill` (bleeding,
+smooth fills, completed masks), :mod:`branchnb.leaves.prepared_layers`
+(the layers' extensions and rims) and
+:mod:`branchnb.leaves.prepared_petioles` (step 5); their names are
+importable from here as before.
+"""
 from __future__ import annotations
 
 import cv2
 import numpy as np
 from scipy import ndimage as ndi
 
-from ..core.image import extend_nearest
+from ..core.image import extend_nearest  # noqa: F401  (importable from here as before)
 from ..core.morphology import _binary_dilation, _binary_erosion
 from .flatart import _layer_lines, _replace_from_blade, drawn_outline, flat_art
 from .leftover import flatten_leftover, layer_strength, own_lines, parallel_lines
-from .shaping import _affine_grid, _grid, _map_jacobian, _remap_map, _remap_values, _sample
+
+# The steps' helpers, one module each; every name importable from here as before.
+from .prepared_fill import _SOFT_RIM, _bleed, _completed, _smooth_fill, _soft_rim, _stored, _without_knobs  # noqa: F401
+from .prepared_layers import (  # noqa: F401
+    _SPECK_SIDE,
+    _completeness,
+    _leftover_layer,
+    _refilled_rims,
+    _removed_extension,
+    _without_specks,
+)
+from .prepared_petioles import _PetioleSteps
+from .shaping import _affine_grid, _grid, _map_jacobian, _remap_map, _remap_values, _sample  # noqa: F401
 
 __all__ = ["registration_errors"]
-
-
-def _bleed(img: np.ndarray, mask: np.ndarray) -> np.ndarray:
-    """Colours of ``mask`` extended outwards, smoothly, so warps never pull in the backdrop.
-
-    The first ring (2 px) takes the nearest blade pixel's colour (the
-    margin's own colour right at the outline); farther out a smooth fill
-    (:func:`_smooth_fill`). The nearest colour alone extended every
-    outline pixel along a ray: where a new blade reached past the
-    exemplar's (a margin notch of the donor), the new leaf showed
-    fan-shaped hatched streaks of the notch's colours (drawn oaks at 1 MP).
-    """
-    img = np.asarray(img, np.float32)
-    mask = np.asarray(mask, bool)
-    if not mask.any() or mask.all():
-        return img
-    ring = _binary_dilation(mask, iterations=2)
-    # Only the ring's nearest colours are read (_smooth_fill keeps its known pixels as they are and
-    # ignores the others): the nearest-pixel search on the ring's box, not the canvas.
-    rows, cols = np.flatnonzero(ring.any(1)), np.flatnonzero(ring.any(0))
-    box = (slice(rows[0], rows[-1] + 1), slice(cols[0], cols[-1] + 1))
-    near = np.zeros_like(img)
-    near[box] = extend_nearest(img[box], mask[box])
-    return _smooth_fill(near, ring)
-
-
-def _stored(img: np.ndarray) -> np.ndarray:
-    """An image kept for every new leaf: its colour channels (no alpha) as float16.
-
-    The stage images, the leaf under each layer, the layer masks and
-    weights of every exemplar are held as long as the analysis: as float32
-    RGBA they were 319 MB for 3 exemplars of 1.1 MP (procedural lobed, two
-    layers); float16 RGB halves that and more (relative precision 5e-4,
-    a tenth of a grey level; they are turned back to float32 where sampled).
-    """
-    img = np.asarray(img)
-    if img.ndim == 3 and img.shape[2] == 4:
-        img = img[..., :3]
-    return np.ascontiguousarray(img, np.float16)
-
-
-def _completed(img: np.ndarray, blade: np.ndarray, mask: np.ndarray, reach: int = 3, line: bool = False):
-    """A layer's mask completed by the pixels beside it that stand out as the layer does, and the leaf under it.
-
-    Going beyond the paper (whose layers are pasted as induced). The leaf
-    without the layer is estimated by filling the mask (grown by 2 px)
-    smoothly from the blade around it (:func:`_smooth_fill`); every pixel
-    within ``reach`` px of the mask whose difference from that estimate
-    is at least half the layer's median difference (projected on the
-    layer's median colour contrast) joins the mask, and the estimate is
-    made again without it. Returns ``(mask, under)``.
-
-    The analysis' residual (an inpainting, never exact) kept the parts of
-    a layer its mask missed, so a contrast taken against it was 1 there:
-    an induced vein layer tracing the two rims of a wide drawn vein (a
-    drawn oak) was pasted as a hollow outline around a core of blade
-    colour, and one traced in dashes along a grass strip's veins stayed
-    dashed.
-
-    With ``line`` (the most structural layer of a photograph, its veins),
-    what grows farther than 1 px from the mask is kept only where it joins
-    two of the mask's pieces (a dash's gap): a side knob is a speck or a
-    dark fleck of the blade beside the vein, not the vein. Kept, the knobs
-    came with the vein onto a new leaf whose blade had none: the maples'
-    pasted veins looked beaded. Share of a pasted vein layer's change more
-    than 1 px from the traced vein (``python -m
-    branchnb.leaves._measure_beads pasted``): maples 0.201 -> 0.188,
-    procedural families unchanged (0.007-0.010).
-    """
-    img = np.asarray(img, np.float32)[..., :3]
-    under = _smooth_fill(img, blade & ~_binary_dilation(mask, iterations=2))
-    diff = img - under
-    d = np.median(diff[mask], axis=0)
-    dn = float((d ** 2).sum())
-    if dn < 1e-6:
-        return mask, under
-    strength = (diff @ d) / dn  # 1: as strong as the layer's median pixel, in its direction
-    near = _binary_dilation(mask, iterations=reach) & blade
-    grown = mask | (near & (strength > 0.5))
-    if line:
-        grown = _without_knobs(grown, mask)
-    if grown.sum() == mask.sum():
-        return mask, under
-    return grown, _smooth_fill(img, blade & ~_binary_dilation(grown, iterations=2))
-
-
-def _without_knobs(grown: np.ndarray, mask: np.ndarray) -> np.ndarray:
-    """``grown`` without the parts beyond 1 px of ``mask`` that touch fewer than two of its pieces."""
-    eight = np.ones((3, 3), bool)
-    near = _binary_dilation(mask, structure=eight)
-    extra = grown & ~near
-    if not extra.any():
-        return grown
-    lab_x, n_x = ndi.label(extra, structure=eight)
-    lab_m, _ = ndi.label(mask, structure=eight)
-    # The pieces of the mask each extra part reaches (within 2 px: it lies beyond the 1 px ring).
-    reach = ndi.grey_dilation(lab_x, size=5)
-    at = (reach > 0) & (lab_m > 0)
-    if not at.any():
-        return grown & near
-    pairs = np.unique(np.stack([reach[at], lab_m[at]], 1), axis=0)
-    touched = np.bincount(pairs[:, 0], minlength=n_x + 1)
-    return (grown & near) | np.isin(lab_x, np.flatnonzero(touched >= 2))
-
-
-def _smooth_fill(img: np.ndarray, known: np.ndarray) -> np.ndarray:
-    """``img`` with the pixels outside ``known`` filled smoothly (push-pull over an image pyramid).
-
-    Known pixels keep their values; each unknown one takes the known
-    values' mean at the finest pyramid level that reaches it, bilinearly
-    upsampled (Gortler et al. 1996's push-pull).
-    """
-    img = np.asarray(img, np.float32)
-    known = np.asarray(known, bool)
-    two = img.ndim == 2
-    v = img[..., None] if two else img
-    w = known.astype(np.float32)
-    levels = [(np.where(known[..., None], v, np.float32(0)), w)]
-    while min(levels[-1][1].shape) > 2 and (levels[-1][1] <= 1e-6).any():
-        pv, pw = levels[-1]
-        h, wd = pw.shape
-        size = ((wd + 1) // 2, (h + 1) // 2)
-        nv = cv2.resize(pv, size, interpolation=cv2.INTER_AREA)
-        nw = cv2.resize(pw, size, interpolation=cv2.INTER_AREA)
-        levels.append((nv.reshape(nv.shape[:2] + (v.shape[2],)), nw))
-    if len(levels) == 1:
-        return levels[0][0][..., 0] if two else levels[0][0]
-    pv, pw = levels[-1]
-    cur = pv / np.maximum(pw, 1e-12)[..., None]
-    for pv, pw in reversed(levels[1:-1]):
-        h, wd = pw.shape
-        up = cv2.resize(cur, (wd, h), interpolation=cv2.INTER_LINEAR).reshape(h, wd, v.shape[2])
-        a = np.clip(pw, 0, 1)[..., None]
-        cur = pv / np.maximum(pw, 1e-12)[..., None] * a + up * (1 - a)
-    # The finest level's weights are 0 or 1: its blend is the known pixels or the upsampled fill
-    # (the same values, without five full-resolution temporaries).
-    h, wd = w.shape
-    up = cv2.resize(cur, (wd, h), interpolation=cv2.INTER_LINEAR).reshape(h, wd, v.shape[2])
-    out = np.where(known[..., None], v, up)
-    return out[..., 0] if two else out
-
-
-#: Give a hard-edged (binary) training alpha a one-pixel ramp before the shape warp carries it (:func:`_soft_rim`).
-_SOFT_RIM = True
-
-
-def _soft_rim(alpha: np.ndarray) -> np.ndarray:
-    """A binary ``alpha`` with its outline smoothed into a ramp about 1 px wide; a soft one as it is.
-
-    Going beyond the paper. A new leaf's alpha is the training leaf's
-    carried (bilinearly) by the shape warp. A hard 0/1 alpha (a cut-out
-    with no anti-aliasing) is a staircase, and a staircase turned and
-    stretched by a warp comes out as a saw-toothed, frayed rim: perimeter
-    of the new blade over that of its smoothed self (Gaussian of 3 px)
-    1.05-1.09 against the exemplars' 1.03-1.04 (ginkgo fans, 300 px).
-    Blurred by a Gaussian of 1 px and steepened back to a 1 px ramp, the
-    outline is the staircase's smooth mean line. An alpha that is already
-    anti-aliased (most of its outline pixels partial: photographs,
-    drawings) is left as it is.
-    """
-    a = np.asarray(alpha, np.float32)
-    inside = a > 0.5
-    edge = inside & ~_binary_erosion(inside, iterations=1)
-    if not _SOFT_RIM or not edge.any():
-        return a
-    # Partial pixels on or beside the outline: a few (a cleanup's stray) still count as hard.
-    ring = _binary_dilation(edge, iterations=1)
-    if ((a > 0.02) & (a < 0.98) & ring).sum() > 0.05 * edge.sum():
-        return a
-    soft = (cv2.GaussianBlur(a, (0, 0), 1.0) - 0.5) * np.float32(2.5) + np.float32(0.5)
-    return np.clip(soft, 0.0, 1.0).astype(np.float32)
 
 
 #: Drop side knobs from the completed mask of the most structural layer on photographs (see :func:`_completed`).
@@ -217,138 +63,6 @@ _NEAR_LEVEL = 0.2
 #: Paste a layer's ridge extension (what the residual removed beyond its induced mask) back with it
 #: (see :func:`_removed_extension`).
 _PASTE_EXTENSIONS = True
-
-
-def _removed_extension(a, k: int, e: int, mask: np.ndarray):
-    """What the analysis removed of layer ``k`` on exemplar ``e`` beyond its (completed) ``mask``, or None.
-
-    Going beyond the paper (issue 22). The residual of a thin layer removes
-    its induced mask grown along the layer's ridges
-    (:func:`branchnb.leaves.analysis_induce._ridge_extension`): the faint
-    ends of fine veins the colour term misses. The layer was pasted by its
-    induced mask alone, so those ends left the background and never came
-    back: new maples lost the fine detail at their veins' ends (mean
-    gradient magnitude inside the blade 0.845-0.850 of the exemplars' on 7
-    sample maples, 6 new leaves, rng 0-2; pasted back 0.887-0.917). The
-    removed pixels are those the residual changed (it leaves every other
-    pixel as it was); the ones more than 1 px beyond ``mask`` are returned.
-    :class:`_Prepared` leaves out those within 2 px of another layer's mask
-    (a vein's extension reaching into a spot's rim pasted faint rims where
-    the new leaf had no spot) and pieces shorter than 8 px
-    (:func:`_without_specks`), and the pasted colours there are clipped to
-    the exemplars' blade colours (``synthesis_layers._paste_layers``).
-    """
-    if k + 1 >= len(a.residuals):
-        return None
-    blade = np.asarray(a.blades[e], bool)
-    before = np.asarray(a.residuals[k][e], np.float32)[..., :3]
-    after = np.asarray(a.residuals[k + 1][e], np.float32)[..., :3]
-    removed = blade & (np.abs(before - after).max(-1) > 1e-4)
-    ext = removed & ~_binary_dilation(mask, iterations=1)
-    return ext if ext.any() else None
-
-
-#: Pieces of a pasted ridge extension shorter than this (px, longer side of the box) are left out.
-_SPECK_SIDE = 8
-
-
-def _without_specks(ext: np.ndarray):
-    """``ext`` without its pieces (8-connected) shorter than :data:`_SPECK_SIDE` px, or None when nothing is left.
-
-    A ridge extension also reaches vein-coloured specks right beside a
-    vein; pasted with the vein they bead it on a new leaf whose blade has
-    none (``tests/test_leaves_vein_beads.py``: share of the pasted change
-    more than 1 px from the true vein 0.27 with them, at most 0.25 wanted).
-    The faint end of a vein is a longer piece.
-    """
-    lab, n = ndi.label(ext, structure=np.ones((3, 3), bool))
-    if n == 0:
-        return None
-    keep = np.zeros(n + 1, bool)
-    for i, sl in enumerate(ndi.find_objects(lab), start=1):
-        keep[i] = max(sl[0].stop - sl[0].start, sl[1].stop - sl[1].start) >= _SPECK_SIDE
-    out = keep[lab]
-    return out if out.any() else None
-
-
-def _refilled_rims(img: np.ndarray, a, e: int, top) -> np.ndarray:
-    """The background ``img`` of exemplar ``e`` with what its layers (but ``top``) left around their masks filled.
-
-    Going beyond the paper. The analysis' residual fills each induced
-    mask, but a spot's rim the mask missed and its halo stayed: faint
-    ghosts of the background's own spots beside the donor's pasted ones.
-    Measured (procedural families of 256 px, true registrations, 3
-    exemplars each): contrast left in the background at the true spots,
-    as a share of the exemplar's, lobed 0.01-0.18 -> 0.01-0.06, elliptic
-    0.13-0.33 -> 0.01-0.13, fan 0.07-0.21 -> 0.04-0.09 (grown by 2 px:
-    0.05-0.08, 0.03-0.07, 0.05-0.07, but new leaves' colours strayed out
-    of the exemplars' range on 0.04 % more of their blade). Each layer's mask is
-    completed by the pixels beside it that stand out as the layer does
-    (:func:`_completed`, in the image where the layer was induced), grown
-    by 1 px, filled smoothly from the blade around it and given the
-    blade's grain back (:func:`branchnb.leaves.leftover._grain`).
-    """
-    from .leftover import _grain
-    blade = a.blades[e]
-    hole = np.zeros(blade.shape, bool)
-    for j, L in enumerate(a.layers):
-        mk = np.asarray(L.masks[e], bool) & blade
-        if j == top or not mk.any():
-            continue
-        grown, _ = _completed(a.residuals[j][e], blade, mk)
-        hole |= _binary_dilation(grown, iterations=1)
-    hole &= _binary_erosion(blade, iterations=1)
-    if not hole.any():
-        return img
-    img = np.asarray(img, np.float32)
-    rgb = img[..., :3]
-    out = np.where(hole[..., None], _smooth_fill(rgb, blade & ~hole), rgb).astype(np.float32)
-    g = _grain(rgb, blade & ~hole, hole, 4)
-    out = np.where(hole[..., None], out - (out - cv2.GaussianBlur(out, (0, 0), 1.0)) + g, out)
-    # Within the blade's own colours (0.5-99.5th percentiles of the pixels kept): grain added to a
-    # fill can step past them, and those pixels stood out of every exemplar's colours.
-    kept = rgb[blade & ~hole]
-    if len(kept) > 100:
-        lo, hi = np.percentile(kept, 0.5, axis=0), np.percentile(kept, 99.5, axis=0)
-        out = np.where(hole[..., None], np.clip(out, lo, hi), out)
-    if img.shape[-1] == 4:
-        out = np.dstack([out, img[..., 3:]])
-    return np.clip(out, 0.0, 1.0).astype(np.float32)
-
-
-def _leftover_layer(a):
-    """``(k, sign, width)`` of the most structural layer (largest lambda): its polarity on the
-    training leaf and its median width (px) there; None without layers or a training mask."""
-    if not a.layers or len(a.residuals) < 2:
-        return None
-    k = int(np.argmax([L.lam for L in a.layers]))
-    t = a.training_index
-    mk = np.asarray(a.layers[k].masks[t], bool) & a.blades[t]
-    if mk.sum() < 10:
-        return None
-    g_on = np.asarray(a.residuals[k][t], np.float32)[..., :3][mk].mean(-1)
-    g_off = np.asarray(a.residuals[k + 1][t], np.float32)[..., :3][mk].mean(-1)
-    sign = float(np.sign(np.median(g_on - g_off)))
-    from skimage.morphology import skeletonize
-    sk = skeletonize(mk)
-    width = float(np.median(2.0 * ndi.distance_transform_edt(mk)[sk] - 1.0)) if sk.any() else 1.0
-    return (k, sign, width) if sign != 0 else None
-
-
-def _completeness(layer) -> list[float]:
-    """Per exemplar: skeleton length of the induced mask over the registered training mask's (at most 1),
-    over the median of these ratios among the exemplars with a layer (1: as complete as most; 0: empty).
-    """
-    from skimage.morphology import skeletonize
-    reg = getattr(layer, "registered", None)
-    q = []
-    for e, mk in enumerate(layer.masks):
-        own = float(skeletonize(np.asarray(mk, bool)).sum()) if mk.any() else 0.0
-        pred = float(skeletonize(np.asarray(reg[e], bool)).sum()) if reg is not None and reg[e].any() else own
-        q.append(min(1.0, own / pred) if pred > 0 else 0.0)
-    q = np.array(q)
-    med = float(np.median(q[q > 0])) if (q > 0).any() else 1.0
-    return [float(x / med) for x in q]
 
 
 def _boundary(mask):
@@ -389,7 +103,7 @@ def registration_errors(analysis) -> list[float]:
     return out
 
 
-class _Prepared:
+class _Prepared(_PetioleSteps):
     """What every generated leaf of one analysis shares (exemplar-frame images and maps)."""
 
     def __init__(self, analysis):
@@ -676,128 +390,6 @@ class _Prepared:
         c, s = np.cos(theta), np.sin(theta)
         back = np.array([[c, s], [-s, c]])  # rotation by -theta: output pose -> upright frame
         return _remap_map(upright, _affine_grid(self.shape, back, self.centre_t))
-
-    def _prepare_petioles(self):
-        """Each exemplar's own petiole (RGBA, exemplar frame), its base and how its lamina meets the base.
-
-        The registration is of the laminae (a petiole bends and varies in
-        length: no shared shape), so the shape blend would carry the training
-        leaf's petiole onto every new leaf. Instead the training petiole is
-        cut from the alpha and a new leaf gets one exemplar's own petiole,
-        attached at the new leaf's base as it is attached to its own lamina.
-        """
-        from .registration import split_petiole
-
-        a = self.analysis
-        t = a.training_index
-        self.petiole_rgba, self.petiole_base, self.petiole_jac = [], [], []
-        # Each exemplar's size: the square root of its lamina's area, and its lamina's centroid.
-        laminae = [split_petiole(b)[0] for b in a.blades]
-        self.lamina_size = [float(np.sqrt(lam.sum())) for lam in laminae]
-        self.lamina_centre = [np.array([np.nonzero(lam)[1].mean(), np.nonzero(lam)[0].mean()])
-                              if lam.any() else None for lam in laminae]
-        _, pet_t, base_t = split_petiole(a.blades[t])
-        self.base_t = base_t
-        if base_t is not None:
-            rim = _binary_dilation(pet_t, iterations=2) & ~_binary_erosion(
-                a.blades[t] & ~pet_t, iterations=1)
-            # With the faint alpha off the blade whose nearest blade pixel is
-            # petiole (a photo's shadow and fringe along the stalk), which
-            # the rim misses and which traced the old petiole faintly beside
-            # the new one.
-            rim |= extend_nearest(pet_t, a.blades[t]) & ~a.blades[t]
-            self.alpha_t = self.alpha_t * ~rim
-        for e in range(self.n):
-            _, pet, base = split_petiole(a.blades[e])
-            if base_t is None or base is None:
-                self.petiole_rgba.append(None)
-                self.petiole_base.append(None)
-                self.petiole_jac.append(None)
-                continue
-            keep = _binary_dilation(pet, iterations=2)
-            # Only the petiole's box (plus a 2 px transparent rim) is kept: a
-            # whole RGBA exemplar per petiole was 50 MB at 1 MP.
-            ys, xs = np.nonzero(keep)
-            y0, x0 = max(0, ys.min() - 2), max(0, xs.min() - 2)
-            y1, x1 = ys.max() + 3, xs.max() + 3
-            img = np.asarray(a.exemplars[e], np.float32)[y0:y1, x0:x1].copy()
-            img[..., 3] *= keep[y0:y1, x0:x1]
-            img = np.pad(img, ((1, 1), (1, 1), (0, 0)))  # transparent beyond the box (edges are replicated)
-            self.petiole_rgba.append((img, np.array([x0 - 1, y0 - 1], np.float32)))
-            self.petiole_base.append(base)
-            self.petiole_jac.append(_map_jacobian(self.from_exemplar[e], base))
-        self.petiole_exemplars = [e for e in range(self.n) if self.petiole_rgba[e] is not None]
-
-    def petiole_layer(self, e: int, m: np.ndarray):
-        """Exemplar ``e``'s petiole (RGBA) in the output frame of the shape map ``m``, or None.
-
-        The new leaf's base ``y_b`` is where ``m`` reaches the training
-        base; the petiole is moved there by a similarity whose scale is that
-        of the polar decomposition of ``J_m(y_b)^-1 J_e(base_e)`` (how
-        exemplar ``e``'s frame relates to the new leaf's at the base) and
-        whose rotation turns exemplar ``e``'s lamina axis (base to lamina
-        centroid) onto the new leaf's: the petiole keeps the angle it makes
-        with its own lamina. (The rotation of the local Jacobian followed
-        the blend's bending of the lamina right at the base: new maples'
-        petioles came out up to 18-20 degrees farther from the lamina's
-        axis than any exemplar's.)
-        """
-        if self.base_t is None or self.petiole_rgba[e] is None:
-            return None
-        d = np.hypot(m[..., 0] - self.base_t[0], m[..., 1] - self.base_t[1])
-        yb = np.array(np.unravel_index(int(np.argmin(d)), d.shape)[::-1], np.float64)
-        if d[int(yb[1]), int(yb[0])] > 0.05 * self.size:
-            return None  # the new leaf's base is off the canvas
-        jm = _map_jacobian(m, yb)
-        lin = np.linalg.solve(jm, self.petiole_jac[e]) if abs(np.linalg.det(jm)) > 1e-9 else np.eye(2)
-        u, sv, vt = np.linalg.svd(lin)
-        rot = u @ vt
-        if np.linalg.det(rot) < 0:  # no mirrored petiole
-            u[:, -1] *= -1
-            rot = u @ vt
-        axis_n = self._lamina_axis(m, yb)
-        c_e = self.lamina_centre[e]
-        if axis_n is not None and c_e is not None:
-            v_e = c_e - np.asarray(self.petiole_base[e], float)
-            if np.hypot(*v_e) > 1e-6:
-                t = float(np.arctan2(axis_n[1], axis_n[0]) - np.arctan2(v_e[1], v_e[0]))
-                rot = np.array([[np.cos(t), -np.sin(t)], [np.sin(t), np.cos(t)]])
-        sim = rot * float(np.sqrt(sv.prod()))
-        inv = np.linalg.inv(sim)
-        img, off = self.petiole_rgba[e]
-        # Only the output box the petiole's own box lands in is sampled: beyond it the sample reads
-        # the box's transparent rim (replicated), 0 (a whole-canvas map per petiole was a tenth of
-        # a new leaf's time at 1 MP).
-        ph, pw = img.shape[:2]
-        corners = (np.array([[0, 0], [pw - 1, 0], [0, ph - 1], [pw - 1, ph - 1]], np.float64) + off
-                   - self.petiole_base[e]) @ sim.T + yb
-        h, w = self.shape
-        x0, y0 = (max(0, int(np.floor(v)) - 2) for v in corners.min(0))
-        x1, y1 = min(w, int(np.ceil(corners[:, 0].max())) + 3), min(h, int(np.ceil(corners[:, 1].max())) + 3)
-        out = np.zeros(self.shape + (img.shape[2],), np.float32)
-        if x0 < x1 and y0 < y1:
-            box = (slice(y0, y1), slice(x0, x1))
-            q = (np.stack([self.xx[box], self.yy[box]], -1) - yb) @ inv.T + self.petiole_base[e]
-            out[box] = _sample(img, (q - off).astype(np.float32))
-        return out
-
-    def _lamina_axis(self, m: np.ndarray, yb) -> np.ndarray | None:
-        """The new lamina's axis (from the base ``yb`` to its centroid) under the shape map ``m``, or None.
-
-        Measured on a grid of about 64 steps across the leaf (a centroid).
-        """
-        step = max(1, int(self.size // 64))
-        sub = np.ascontiguousarray(m[::step, ::step])
-        lam = _remap_values(self.alpha_t, sub)
-        inside = (sub[..., 0] >= 0) & (sub[..., 0] <= self.shape[1] - 1) & (sub[..., 1] >= 0) & (
-            sub[..., 1] <= self.shape[0] - 1)
-        lam = np.where(inside, lam, 0.0)
-        tot = float(lam.sum())
-        if tot <= 0:
-            return None
-        ys, xs = np.mgrid[0:self.shape[0]:step, 0:self.shape[1]:step]
-        v = np.array([(lam * xs).sum() / tot, (lam * ys).sum() / tot]) - np.asarray(yb, float)
-        return v if np.hypot(*v) > 1e-6 else None
 
     def source_detail(self, e: int) -> np.ndarray:
         """Exemplar ``e``'s background detail for texture correction (cached; see ``correction._correct``)."""
