@@ -51,6 +51,8 @@ from .generations import _Generations
 from .growth_bounds import (
     CHILD_PROFILE_PULL,
     CORE_SCALE,
+    FORK_AREA_EXPONENT,
+    FORK_KEEP,
     MIN_BRANCH_SHARE,
     MIN_BRANCHES,
     RADIUS_GROWTH_QUANTILE,
@@ -64,6 +66,7 @@ from .growth_bounds import (
     _pull_radii,
     _radius_growth,
     _radius_keep,
+    _thin_below_forks,
 )
 from .growth_frame import _FrameRules
 from .growth_selection import _Selection
@@ -89,10 +92,11 @@ from .tropism import _tropism_factor
 # the stopping rules' names (split to .stopping) and the bounds' (split to .growth_bounds) stay importable
 # from here; step() reads RADIUS_PULL, TAPER_LIKENESS and TAPER_RESOLVED from this module, _share
 # MAX_CANDIDATES and _example_bounds winding_limit (so patching growth.NAME still takes effect)
-__all__ = ["CHILD_PROFILE_PULL", "CORE_SCALE", "FILL_LENGTH_FACTOR", "GrowthProgress", "LENGTH_BOUND", "LENGTH_FACTOR",
-           "LENGTH_FLOOR", "MAX_CANDIDATES", "MIN_BRANCHES", "MIN_BRANCH_SHARE", "RADIUS_GROWTH_QUANTILE",
-           "RADIUS_KEEP_QUANTILE", "RADIUS_PULL", "ROOT_PROFILE_PULL", "TAPER_LIKENESS", "TAPER_RESOLVED",
-           "WIND_BOUNDS_DEG", "WIND_FACTOR", "example_length", "length_cap", "winding", "winding_limit"]
+__all__ = ["CHILD_PROFILE_PULL", "CORE_SCALE", "FILL_LENGTH_FACTOR", "FORK_AREA_EXPONENT", "FORK_KEEP",
+           "GrowthProgress", "LENGTH_BOUND", "LENGTH_FACTOR", "LENGTH_FLOOR", "MAX_CANDIDATES", "MIN_BRANCHES",
+           "MIN_BRANCH_SHARE", "RADIUS_GROWTH_QUANTILE", "RADIUS_KEEP_QUANTILE", "RADIUS_PULL", "ROOT_PROFILE_PULL",
+           "TAPER_LIKENESS", "TAPER_RESOLVED", "WIND_BOUNDS_DEG", "WIND_FACTOR", "example_length", "length_cap",
+           "winding", "winding_limit"]
 
 #: Beyond the paper, for speed: a Markov step scores at most about this many candidate windows
 #: (and a new branch this many input heads), a random share of all of them (every ``s``-th
@@ -507,10 +511,13 @@ class _Grower(_FrameRules, _Selection, _Generations, _Starts, _Filling):
             self.report()
 
     def structure(self) -> Structure:
+        radii = [np.asarray(st.radii, np.float64) for st in self.branches]
+        if self.drain is not None:   # a delta's channels narrow below their forks (_thin_below_forks)
+            radii = _thin_below_forks(radii, [st.parent for st in self.branches],
+                                      [st.parent_vertex for st in self.branches])
         out = []
-        for st in self.branches:
-            pts = np.asarray(st.points, np.float64)
-            out.append(Branch(pts, np.asarray(st.radii, np.float64), st.parent, st.parent_vertex))
+        for st, r in zip(self.branches, radii):
+            out.append(Branch(np.asarray(st.points, np.float64), r, st.parent, st.parent_vertex))
         return Structure(out, image_shape=self.shape)
 
     def sources(self) -> list[np.ndarray]:
