@@ -19,7 +19,7 @@ from ..core.params import param
 from .planner import METRICS
 from .scale import length_scale
 
-__all__ = ["StylizeParams", "effective_params", "metaphor_params"]
+__all__ = ["StylizeParams", "effective_params", "metaphor_params", "on_lattice"]
 
 @dataclass
 class StylizeParams:
@@ -301,6 +301,46 @@ def effective_params(p: StylizeParams, scale: float) -> StylizeParams:
         p, min_width=lo, max_width=max(p.max_width * scale ** -SMALL_WIDTH_POWER, lo),
         tone_sigma=p.tone_sigma * grow,
         n_endpoints=max(1, int(round(p.n_endpoints * scale ** SMALL_ENDPOINT_POWER))))
+
+
+def on_lattice(p: StylizeParams, factor: float, widths: bool = True) -> StylizeParams:
+    """``p`` with its lengths along the lattice (``window``, ``tone_sigma`` and with ``widths``
+    ``min_width`` and ``max_width``) in pixels of a lattice ``factor`` times the size of the
+    ``p.lattice_size`` one they are given for (``p`` itself at 1).
+
+    A small picture is planned on a smaller lattice
+    (:func:`~branchnb.dendrite.scale.planning_size`): the same drawing needs the same lengths
+    in image pixels. ``sigma`` stays: :meth:`~branchnb.dendrite.stylization.Stylizer.importance`
+    and ``edge_map`` convert it themselves, so the importance a seed is found on
+    (:meth:`~branchnb.dendrite.stylization.Stylizer.default_seed`, given the parameters as the
+    user set them) is the one :meth:`~branchnb.dendrite.stylization.Stylizer.run` plans on.
+
+    Parameters
+    ----------
+    p : StylizeParams
+        Lengths in pixels of the ``p.lattice_size`` lattice.
+    factor : float
+        Planning lattice's pixels per pixel of the ``p.lattice_size`` lattice, in (0, 1].
+    widths : bool
+        Convert the widths too (False: they are in the planning lattice's pixels already).
+
+    Returns
+    -------
+    StylizeParams
+
+    Examples
+    --------
+    >>> q = on_lattice(StylizeParams(), 0.5)
+    >>> q.window, q.tone_sigma, q.min_width, q.max_width
+    (7, 4.0, 0.1, 2.0)
+    """
+    if factor == 1.0:
+        return p
+    window = max(1, 2 * int(round(0.5 * (p.window * factor - 1))) + 1)  # odd: centred
+    values = dict(window=window, tone_sigma=p.tone_sigma * factor)
+    if widths:
+        values.update(min_width=p.min_width * factor, max_width=p.max_width * factor)
+    return _within_range(p, **values)
 
 
 #: Vine stems are this many leaf lengths apart on average (:func:`metaphor_params`).
