@@ -42,7 +42,11 @@ class StylizeParams:
     scale-free (on a bigger random lattice a larger share of the nodes ties
     at the percolation bottleneck and the branches straighten into a radial
     burst), which is why the lattice, not only the lengths, keeps one size.
-    ``lattice_size=0`` plans on the image's own pixels. Drawn back on a small
+    ``lattice_size=0`` plans on the image's own pixels. A picture smaller than
+    ``lattice_size / 2.4`` (under ~215 px) is planned on a lattice 2.4 times its size
+    (:func:`~branchnb.dendrite.scale.planning_size`, beyond the paper: a 64-px picture took
+    as long as a 500-px one) with these lengths converted to it (:func:`on_lattice`), so it
+    keeps the 512-lattice drawing's look. Drawn back on a small
     image, lattice widths would shrink below a pixel: ``output_width`` keeps
     every stroke at least that many image pixels wide, a smaller image
     gets fewer endpoints and a larger one keeps the 512-px widths scaled up
@@ -109,7 +113,7 @@ class StylizeParams:
         Widest stroke (lattice px); 4.
     lattice_size : int
         Plan on a lattice with the diagonal of this square; 512 (0: the
-        image's own pixels).
+        image's own pixels; a smaller one for a small picture, see **Scale**).
     output_width : float
         Narrowest stroke at the image's own size (px; lattice px on images
         larger than the lattice); 1. Smaller images also get fewer endpoints;
