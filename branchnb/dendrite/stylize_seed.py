@@ -89,7 +89,8 @@ class _SeedSteps:
         Examples
         --------
         >>> from branchnb.dendrite import Stylizer, StylizeParams
-        >>> Stylizer(np.ones((600, 800))).lattice_factor(StylizeParams()), Stylizer(np.ones((48, 64))).lattice_factor(StylizeParams())
+        >>> p = StylizeParams()
+        >>> Stylizer(np.ones((600, 800))).lattice_factor(p), Stylizer(np.ones((48, 64))).lattice_factor(p)
         (1.0, 0.265625)
         """
         if p.lattice_size <= 0:
