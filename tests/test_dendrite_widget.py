@@ -56,7 +56,8 @@ def test_slider_changes_reuse_the_cached_plan(app):
     assert app.comparison.second.endpoints is ends
     app.panels["stylize"].controls["n_endpoints"].value = 100
     # an image smaller than the lattice gets n_endpoints x (image px per lattice px) ** 1.25
-    k = float(np.sqrt(np.prod(app.comparison.second.scale)))
+    # (of the lattice_size lattice: a small picture is planned on a smaller one, size_scale)
+    k = app.stylizer.size_scale(app.comparison.second.params)
     assert k < 1
     assert len(app.comparison.second.endpoints) == round(100 * k ** SMALL_ENDPOINT_POWER)
 
@@ -123,7 +124,7 @@ def test_slider_move_shows_a_half_resolution_preview_first():
 
 
 def test_preview_keeps_the_size_adapted_widths_without_the_pruning_rounds():
-    from branchnb.dendrite.stylize_params import effective_params
+    from branchnb.dendrite.stylize_params import effective_params, on_lattice
     from branchnb.widgets.dendrite import _scaled
 
     img = np.ones((200, 200))
@@ -133,8 +134,11 @@ def test_preview_keeps_the_size_adapted_widths_without_the_pruning_rounds():
     pv = app.preview
     full = app.panels["stylize"].values
     s = app._preview_scale
-    k = float(np.sqrt(np.prod(app.preview_stylizer.scale(_scaled(full, s)))))
-    want = effective_params(_scaled(full, s), k)
+    # the size adaptation at the lattice_size lattice's scale, its lengths then put on the
+    # lattice the (small) preview is planned on
+    k = app.preview_stylizer.size_scale(_scaled(full, s))
+    want = on_lattice(effective_params(_scaled(full, s), k),
+                      app.preview_stylizer.lattice_factor(_scaled(full, s)))
     assert k < 1  # a small picture on a larger lattice: the full run prunes twigs
     # the same floor and widths, but not the twig-dropping rounds (3/4 of the preview's time)
     assert pv.params.output_width == 0.0

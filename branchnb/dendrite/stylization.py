@@ -80,6 +80,7 @@ from .stylize_params import (  # noqa: F401  (re-exported; the spacings too)
     _within_range,
     effective_params,
     metaphor_params,
+    on_lattice,
 )
 from .stylize_seed import _ENDPOINTS, _IMPORTANCE, _LATTICE, _PLAN, _PRUNE_ROUNDS, _SeedSteps, _subset
 from .stylize_strike import _StrikeSteps
@@ -222,9 +223,10 @@ class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
         (h, w) float32 ndarray
             ``I`` in [0, 1] (:func:`~branchnb.dendrite.importance.importance_map`), cached.
         """
+        # sigma is in pixels of the lattice_size lattice (a small picture's is smaller)
         return self._get(("importance", _subset(p, _IMPORTANCE)), lambda: importance_map(
             self.working_image(p), ImportanceParams(p.intensity_weight, p.gradient_weight,
-                                                    p.sigma)))
+                                                    p.sigma * self.lattice_factor(p))))
 
     @checked()
     def edge_map(self, p: StylizeParams) -> np.ndarray:
@@ -240,7 +242,7 @@ class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
         (h, w) float32 ndarray
         """
         return self._get(("edges", p.lattice_size, p.sigma), lambda: gradient_strength(
-            self.working_image(p), sigma=p.sigma))
+            self.working_image(p), sigma=p.sigma * self.lattice_factor(p)))
 
     def _paper_image(self, p: StylizeParams) -> np.ndarray:
         # the working image with its lightest tone as paper (importance._to_paper_white): the
@@ -450,7 +452,7 @@ class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
     def _growth(self, p: StylizeParams) -> float:
         if p.output_width <= 0:  # the size adaptation is off (effective_params)
             return 1.0
-        return _spacing_growth(float(np.sqrt(np.prod(self.scale(p)))))
+        return _spacing_growth(self.size_scale(p))
 
     def _vine_sizes(self, p: StylizeParams, given: StylizeParams, obj, content, share: float,
                     k: float, options: dict) -> dict:
@@ -511,8 +513,11 @@ class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
         """:meth:`run`'s parameters for the image size and the metaphor: ``(given, p, k, obj,
         render_options)`` (``obj`` the vines' object or None); ``with_options=False`` skips the
         vines' render-only outline band."""
-        k = float(np.sqrt(np.prod(self.scale(p))))
-        given, p = p, effective_params(p, k)
+        # the size adaptation reads the scale against the lattice_size lattice, and the lengths
+        # it returns are then put on the (smaller) lattice a small picture is planned on
+        k, f = self.size_scale(p), self.lattice_factor(p)
+        k_lat = k / f  # image px per planning-lattice px
+        given, p = p, on_lattice(effective_params(p, k), f)
         obj = None
         if metaphor in ("vines", "lightning"):
             # the metaphors size their own strokes from the given parameters
@@ -530,9 +535,10 @@ class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
                 obj = self._vine_object(p)
                 obj = obj if obj is not None else self._vine_parts(p)
                 share = float(obj.mean()) if obj is not None else share
-            p = metaphor_params(given, metaphor, self.shape, share, k)
+            # the metaphors' widths are image pixels over the planning lattice's scale
+            p = on_lattice(metaphor_params(given, metaphor, self.shape, share, k_lat), f, widths=False)
             if metaphor == "vines":  # leaves sized to the object, tips along its outline
-                render_options = self._vine_sizes(p, given, obj, imp >= thr, share, k,
+                render_options = self._vine_sizes(p, given, obj, imp >= thr, share, k_lat,
                                                   render_options)
                 p = self._vine_p
                 if with_options and render_options.get("within") is None:
@@ -618,7 +624,7 @@ class Stylizer(_SeedSteps, _StrikeSteps, _ObjectSteps):
                 "plain", None):
             # the floor keeps strokes a pixel wide; where that carries more ink than the
             # 512-px picture's floor would, drop twigs until it does not (twigs_within_ink)
-            ref_lo = min(p.min_width, max(given.min_width, p.output_width))
+            ref_lo = min(p.min_width, max(given.min_width, p.output_width) * self.lattice_factor(p))
             ref_hi = p.max_width
             full = d0 = self.dendrite(p, seed_lat, rng)
             keep = np.ones(len(full.tips), bool)

@@ -19,7 +19,7 @@ from ..core.params import param
 from .planner import METRICS
 from .scale import length_scale
 
-__all__ = ["StylizeParams", "effective_params", "metaphor_params"]
+__all__ = ["StylizeParams", "effective_params", "metaphor_params", "on_lattice"]
 
 @dataclass
 class StylizeParams:
@@ -42,7 +42,11 @@ class StylizeParams:
     scale-free (on a bigger random lattice a larger share of the nodes ties
     at the percolation bottleneck and the branches straighten into a radial
     burst), which is why the lattice, not only the lengths, keeps one size.
-    ``lattice_size=0`` plans on the image's own pixels. Drawn back on a small
+    ``lattice_size=0`` plans on the image's own pixels. A picture smaller than
+    ``lattice_size / 2.4`` (under ~215 px) is planned on a lattice 2.4 times its size
+    (:func:`~branchnb.dendrite.scale.planning_size`, beyond the paper: a 64-px picture took
+    as long as a 500-px one) with these lengths converted to it (:func:`on_lattice`), so it
+    keeps the 512-lattice drawing's look. Drawn back on a small
     image, lattice widths would shrink below a pixel: ``output_width`` keeps
     every stroke at least that many image pixels wide, a smaller image
     gets fewer endpoints and a larger one keeps the 512-px widths scaled up
@@ -109,7 +113,7 @@ class StylizeParams:
         Widest stroke (lattice px); 4.
     lattice_size : int
         Plan on a lattice with the diagonal of this square; 512 (0: the
-        image's own pixels).
+        image's own pixels; a smaller one for a small picture, see **Scale**).
     output_width : float
         Narrowest stroke at the image's own size (px; lattice px on images
         larger than the lattice); 1. Smaller images also get fewer endpoints;
@@ -301,6 +305,46 @@ def effective_params(p: StylizeParams, scale: float) -> StylizeParams:
         p, min_width=lo, max_width=max(p.max_width * scale ** -SMALL_WIDTH_POWER, lo),
         tone_sigma=p.tone_sigma * grow,
         n_endpoints=max(1, int(round(p.n_endpoints * scale ** SMALL_ENDPOINT_POWER))))
+
+
+def on_lattice(p: StylizeParams, factor: float, widths: bool = True) -> StylizeParams:
+    """``p`` with its lengths along the lattice (``window``, ``tone_sigma`` and with ``widths``
+    ``min_width`` and ``max_width``) in pixels of a lattice ``factor`` times the size of the
+    ``p.lattice_size`` one they are given for (``p`` itself at 1).
+
+    A small picture is planned on a smaller lattice
+    (:func:`~branchnb.dendrite.scale.planning_size`): the same drawing needs the same lengths
+    in image pixels. ``sigma`` stays: :meth:`~branchnb.dendrite.stylization.Stylizer.importance`
+    and ``edge_map`` convert it themselves, so the importance a seed is found on
+    (:meth:`~branchnb.dendrite.stylization.Stylizer.default_seed`, given the parameters as the
+    user set them) is the one :meth:`~branchnb.dendrite.stylization.Stylizer.run` plans on.
+
+    Parameters
+    ----------
+    p : StylizeParams
+        Lengths in pixels of the ``p.lattice_size`` lattice.
+    factor : float
+        Planning lattice's pixels per pixel of the ``p.lattice_size`` lattice, in (0, 1].
+    widths : bool
+        Convert the widths too (False: they are in the planning lattice's pixels already).
+
+    Returns
+    -------
+    StylizeParams
+
+    Examples
+    --------
+    >>> q = on_lattice(StylizeParams(), 0.5)
+    >>> q.window, q.tone_sigma, q.min_width, q.max_width
+    (7, 4.0, 0.1, 2.0)
+    """
+    if factor == 1.0:
+        return p
+    window = max(1, 2 * int(round(0.5 * (p.window * factor - 1))) + 1)  # odd: centred
+    values = dict(window=window, tone_sigma=p.tone_sigma * factor)
+    if widths:
+        values.update(min_width=p.min_width * factor, max_width=p.max_width * factor)
+    return _within_range(p, **values)
 
 
 #: Vine stems are this many leaf lengths apart on average (:func:`metaphor_params`).

@@ -21,7 +21,7 @@ from .main_channel import (
     wide_top,
 )
 from .photo_strike import strike_origin
-from .scale import resample_to_lattice
+from .scale import planning_size, resample_to_lattice
 from .stylize_params import (
     LIGHTNING_SEED_BLUR,
     LIGHTNING_SEED_DENSITY,
@@ -57,7 +57,8 @@ class _SeedSteps:
 
     @checked()
     def working_image(self, p: StylizeParams) -> np.ndarray:
-        """The image resampled to the planning lattice (``p.lattice_size``).
+        """The image resampled to the planning lattice (``p.lattice_size``; on a small picture
+        at most ``SMALL_LATTICE_RATIO`` times its size, :func:`~branchnb.dendrite.scale.planning_size`).
 
         Parameters
         ----------
@@ -69,7 +70,48 @@ class _SeedSteps:
         (h, w, 3) float32 ndarray
             Cached; the input itself when the sizes agree.
         """
-        return self._get(("work", p.lattice_size), lambda: resample_to_lattice(self.image, p.lattice_size))
+        size = planning_size(self.shape, p.lattice_size)
+        return self._get(("work", size), lambda: resample_to_lattice(self.image, size))
+
+    def lattice_factor(self, p: StylizeParams) -> float:
+        """Pixels of the planning lattice per pixel of a ``p.lattice_size`` lattice: 1, or below 1
+        on a picture planned on a smaller lattice (:func:`~branchnb.dendrite.scale.planning_size`).
+
+        Parameters
+        ----------
+        p : StylizeParams
+            Only ``lattice_size`` is used.
+
+        Returns
+        -------
+        float
+
+        Examples
+        --------
+        >>> from branchnb.dendrite import Stylizer, StylizeParams
+        >>> p = StylizeParams()
+        >>> Stylizer(np.ones((600, 800))).lattice_factor(p), Stylizer(np.ones((48, 64))).lattice_factor(p)
+        (1.0, 0.265625)
+        """
+        if p.lattice_size <= 0:
+            return 1.0
+        return planning_size(self.shape, p.lattice_size) / float(p.lattice_size)
+
+    def size_scale(self, p: StylizeParams) -> float:
+        """Image pixels per pixel of a ``p.lattice_size`` lattice (geometric mean of x and y): the
+        scale the size adaptation (:func:`~branchnb.dendrite.stylize_params.effective_params`)
+        is stated for, also where the picture is planned on a smaller lattice.
+
+        Parameters
+        ----------
+        p : StylizeParams
+            Only ``lattice_size`` is used.
+
+        Returns
+        -------
+        float
+        """
+        return float(np.sqrt(np.prod(self.scale(p)))) * self.lattice_factor(p)
 
     @checked()
     def scale(self, p: StylizeParams) -> np.ndarray:

@@ -400,7 +400,7 @@ class DendriteApp(widgets.VBox):
             # the size-adapted parameters with ``output_width = 0``: the same widths, without
             # the rounds that drop twigs to match the ink of a larger picture (3/4 of the
             # preview's time on a 240-px camera man: 0.43 s -> 0.12 s under load)
-            k = float(np.sqrt(np.prod(self.preview_stylizer.scale(p))))
+            k = self.preview_stylizer.size_scale(p)
             p = dataclasses.replace(effective_params(p, k), output_width=0.0)
         # the full update's seed (clicked, or the stylizer's important region), in preview pixels
         seed = (self.stylizer.start_seed(full, metaphor=self.metaphor.value) if self.seed is None
