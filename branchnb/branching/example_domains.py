@@ -97,6 +97,7 @@ def example_domain(image, structure: Structure | None = None, *, radius: float =
         g = np.asarray(gray, np.float64)
         like = np.abs(g - float(np.median(g[bg]))) <= 0.1
         bg = ndi.binary_dilation(bg, iterations=4, mask=like | bg)
+        bg = _smooth_edge(bg, like, branches, radius)
         if np.ndim(image) == 3:
             # a photo's flat black/white matte is outside wholly, also its slivers narrower than
             # ``radius`` where a fundus disk nears the frame (beyond the paper)
@@ -132,3 +133,42 @@ def _opaque_part(image) -> np.ndarray | None:
         return None
     # the land's own holes (a transparent lake drawn as a gap) stay in the domain
     return ndi.binary_fill_holes(opaque)
+
+
+def _smooth_edge(bg: np.ndarray, like: np.ndarray, branches: np.ndarray, radius: float) -> np.ndarray:
+    """``bg`` with the pockets and marks along its edge that the flat test left to the domain.
+
+    Beyond the paper (issue 23): the flat test keeps only what a disk of
+    ``radius`` fits in, so beside every mark of a marked sea (the wave dashes
+    of a fantasy map) that lies near the coast a pocket of the sea's colour
+    up to ``radius`` deep stayed in the domain, and the dash itself with it:
+    the domain's coast, and the output's coast drawn along it, had a bite or
+    a spike at every such dash (a smooth coast came out scalloped, 4.2 sign
+    changes of curvature per 100 px against the example's 1.3). The
+    background now takes the pixels of its colour within ``radius + 2`` that
+    its closing with that disk covers (the pockets between its lobes; the
+    land behind a gap in a dotted coast is not enclosed by the sea and stays
+    out), and then every piece of the domain narrower than 5 px (no disk of
+    radius 2 fits) that touches it and holds no branch pixel (a dash, a
+    pocket's rim).
+    """
+    import cv2
+
+    r = max(int(round(radius)), 1)
+    disk = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))
+    closed = cv2.morphologyEx(bg.astype(np.uint8), cv2.MORPH_CLOSE, disk, borderType=cv2.BORDER_REPLICATE) > 0
+    bg = ndi.binary_dilation(bg, iterations=r + 2, mask=bg | (like & closed))
+    dom = ~bg
+    opened = cv2.morphologyEx(dom.astype(np.uint8), cv2.MORPH_OPEN,
+                              cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (5, 5)),
+                              borderType=cv2.BORDER_REPLICATE) > 0
+    lab, n = ndi.label(dom & ~opened, structure=np.ones((3, 3), bool))
+    if n == 0:
+        return bg
+    touch = np.zeros(n + 1, bool)
+    touch[lab[ndi.binary_dilation(bg)]] = True
+    held = np.zeros(n + 1, bool)
+    held[lab[np.asarray(branches, bool)]] = True
+    drop = touch & ~held
+    drop[0] = False
+    return bg | drop[lab]
