@@ -62,6 +62,18 @@ def example_domain(image, structure: Structure | None = None, *, radius: float =
     (True, False)
     """
     gray = gray_for_extraction(image)
+    if structure is not None and structure.branches:
+        # an engraved map: its sea is drawn as parallel hatching (.hatched_seas, beyond the paper); its
+        # paper is the land's too, so no flat-colour rule below applies
+        from ..core.render import coverage_polylines
+        from .hatched_seas import hatched_background
+
+        cov, _ = coverage_polylines(gray.shape, [b.points for b in structure.branches],
+                                    [2 * b.thickness + 2 for b in structure.branches])
+        sea = hatched_background(gray, cov > 0.5)
+        if sea.any():
+            opaque = _opaque_part(image)
+            return ~sea if opaque is None else ~sea & opaque
     if is_binary(gray):
         ch, region, _sk, _r = binary_channels(gray)
         if not region.any():
