@@ -2,7 +2,8 @@
 
 Lines along the image frame, binary (water) masks traced by their medial
 axis, large flat regions (a sea) and the outlines of flat regions touching
-the border (a coast, a country border), and the domain of an example.
+the border (a coast, a country border); the domain of an example is in
+:mod:`.example_domains` (re-exported here).
 
 Split from :mod:`.extraction` (which re-exports every name).
 """
@@ -11,10 +12,6 @@ from __future__ import annotations
 
 import numpy as np
 from scipy import ndimage as ndi
-
-from ..core.structure import Structure
-from ..core.validate import Image, checked
-from .clicks import _RADIUS, gray_for_extraction
 
 __all__ = [
     "frame_lines",
@@ -738,117 +735,5 @@ def unlike_background(image, branches, radius: float = 12.0, k: float = 4.0, min
     return keep[lab]
 
 
-@checked(image=Image(), radius=_RADIUS)
-def example_domain(image, structure: Structure | None = None, *, radius: float = 12.0) -> np.ndarray:
-    """Where an example's branches live: the image minus its large branch-free flat regions.
-
-    For a binary mask, the foreground regions far wider than the channels
-    (the sea of a delta, see :func:`binary_channels`) are outside; for any
-    other image, the large flat-colour regions that touch the border and
-    hold no branch (the sea around a river map's land, see
-    :func:`flat_background`; the branches are ``structure`` if given).
-    Pass the result to :func:`~branchnb.branching.fit_model` as ``domain``.
-
-    Beyond the paper (issue 23): a line mask on one plain ground (binary, or
-    anti-aliased in two tones) leaves out the part of the frame its lines
-    leave empty (:func:`.empty_ground._empty_part`), so the output keeps to the occupied
-    part, and keeps within the lines' own line-to-line spacing of them
-    (:func:`.empty_ground._line_domain`: a vine along two borders of its frame
-    grows along those borders, not as a bush over a region twice the band's
-    width). :func:`~branchnb.branching.fit_model` reads the rest as ground, not
-    as a coast or a hole (``StructureModel.ground``), and the output's strands
-    turn to stay in the domain (``branch_starts.LEAVE_BAND``).
-
-    Parameters
-    ----------
-    image : (H, W) or (H, W, C) array_like
-        The example: grey, RGB or RGBA (composited over white), float in [0, 1] or integer.
-    structure : Structure, optional
-        Its branches; None = judge regions by the image alone.
-    radius : float, default 12.0
-        Flat regions must be wider than a disk of this radius (pixels).
-
-    Returns
-    -------
-    (H, W) bool ndarray
-        True where the branches may grow.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> m = np.zeros((100, 100)); m[70:] = 1; m[:70, 48:52] = 1   # a channel into a sea
-    >>> d = example_domain(m)
-    >>> bool(d[10, 50]), bool(d[90, 50])
-    (True, False)
-    """
-    gray = gray_for_extraction(image)
-    if is_binary(gray):
-        ch, region, _sk, _r = binary_channels(gray)
-        if not region.any():
-            # one region (lines on a plain ground): the ground the network leaves empty is no domain
-            from .empty_ground import _line_domain
-
-            return _line_domain(ch)
-        return ~region
-    opaque = _opaque_part(image)
-    branches = np.zeros(gray.shape, bool)
-    if structure is not None and structure.branches:
-        from ..core.render import coverage_polylines
-
-        cov, _ = coverage_polylines(gray.shape, [b.points for b in structure.branches],
-                                    [2 * b.thickness + 2 for b in structure.branches])
-        branches = cov > 0.5
-    bg = flat_background(gray, branches, radius)
-    if not bg.any() and branches.any() and np.ndim(image) == 3:
-        from .empty_ground import _line_domain
-        from .flat_regions import two_tone_lines
-
-        if two_tone_lines(np.asarray(image, np.float32)):
-            # an anti-aliased line mask on one plain ground: like a binary one (above)
-            lo, hi = np.percentile(gray, [1, 99])
-            fg = gray > 0.5 * (lo + hi)
-            return _line_domain(fg if fg.mean() < 0.5 else ~fg)
-    if not bg.any() and branches.any():
-        # a photograph: no flat background, but a textured ground of another colour (a table round a leaf)
-        bg = unlike_background(image, branches, radius)
-    if bg.any():
-        # the flat test leaves a 2 px rim of the background's colour along its edge (windows that
-        # reach the coast line): the background takes it, up to the drawn line (beyond the paper)
-        g = np.asarray(gray, np.float64)
-        like = np.abs(g - float(np.median(g[bg]))) <= 0.1
-        bg = ndi.binary_dilation(bg, iterations=4, mask=like | bg)
-        if np.ndim(image) == 3:
-            # a photo's flat black/white matte is outside wholly, also its slivers narrower than
-            # ``radius`` where a fundus disk nears the frame (beyond the paper)
-            from .regions import matte_mask
-
-            rgb = np.asarray(image, np.float32)
-            if np.issubdtype(np.asarray(image).dtype, np.integer):
-                rgb = rgb / float(np.iinfo(np.asarray(image).dtype).max)
-            matte = matte_mask(rgb, dilate=0)
-            if matte.any() and (bg & matte).sum() >= 0.5 * matte.sum():
-                bg |= matte
-    dom = ~bg
-    return dom if opaque is None else dom & opaque
-
-
-def _opaque_part(image) -> np.ndarray | None:
-    """The opaque part of an RGBA example (a map whose land is drawn and outside transparent), or None.
-
-    Beyond the paper. Composited over white, a transparent outside has the
-    colour of a map's white lowlands, so no flat-region rule can tell them
-    apart; the alpha channel does. None when there is no alpha channel or
-    when it is (nearly) all opaque or all transparent (under 5 % either way).
-    """
-    a = np.asarray(image)
-    if a.ndim != 3 or a.shape[2] != 4:
-        return None
-    alpha = a[..., 3].astype(np.float64)
-    if np.issubdtype(a.dtype, np.integer):
-        alpha /= float(np.iinfo(a.dtype).max)
-    opaque = alpha >= 0.5
-    share = float(opaque.mean())
-    if not 0.05 <= share <= 0.95:
-        return None
-    # the land's own holes (a transparent lake drawn as a gap) stay in the domain
-    return ndi.binary_fill_holes(opaque)
+# split by step: the domain of an example lives in .example_domains (re-exported here)
+from .example_domains import _opaque_part, example_domain  # noqa: E402,F401

@@ -88,9 +88,35 @@ def _ground(ex: Structure, domain: np.ndarray | None) -> np.ndarray | None:
         rim_min = np.asarray(ndi.minimum(d, lab * rim, index=idx))
         rim_med = np.asarray(ndi.median(d, lab * rim, index=idx))
         keep |= (rim_min >= BAND_STEADY * rim_med) & (rim_min >= BAND_GAP)
+    if keep.any() and _coast_reached(ex, out):
+        # a map's rivers start at a coast: its other sea pieces (a bay cut off by land running to the
+        # frame) are sea no river drains to, not ground (beyond the paper, issue 23: read as ground,
+        # the domain took that sea in, the output's land covered it and roots started at the frame's
+        # edge of it, 60-137 px inland of the example's coast)
+        keep[:] = False
     keep = np.r_[False, keep]
     g = keep[lab]
     return g if g.any() else None
+
+
+#: A root starting within this share of the frame's short side (and 3 px) of an outside part starts at
+#: its edge: the example's rivers drain to that coast (:func:`_coast_reached`).
+COAST_REACH = 0.03
+
+
+def _coast_reached(ex: Structure, out: np.ndarray) -> bool:
+    """Whether a root of ``ex`` starts at the edge of ``out`` (the parts outside the domain; within
+    :data:`COAST_REACH` of the frame's short side): the outside is a sea its rivers drain to."""
+    from scipy import ndimage as ndi
+
+    h, w = out.shape
+    starts = np.array([b.points[0] for b in ex.branches if b.parent is None and len(b.points)], np.float64)
+    if not len(starts):
+        return False
+    d = ndi.distance_transform_edt(~out)
+    xi = np.clip(np.rint(starts[:, 0]).astype(np.int64), 0, w - 1)
+    yi = np.clip(np.rint(starts[:, 1]).astype(np.int64), 0, h - 1)
+    return bool(np.any(d[yi, xi] <= max(COAST_REACH * min(h, w), 3.0)))
 
 
 def _drains(ex: Structure, domain: np.ndarray | None) -> bool:

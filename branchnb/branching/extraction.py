@@ -214,6 +214,17 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
         p = dataclasses.replace(p, **overrides)
     check_params(p)
     gray = gray_for_extraction(image)
+    if line_colour is None or isinstance(line_colour, str):
+        # an engraved map's sea is parallel hatching, not rivers: erased to the paper (.hatched_seas)
+        from .hatched_seas import without_hatched_sea
+
+        erased_image, erased_gray = without_hatched_sea(image, gray)
+        if erased_gray is not gray:
+            # its coast is then the outline of a flat region (the paper where the hatching was), taken out
+            # by the ridge route's outline test; the binary route would trace it as a line
+            image, gray = erased_image, erased_gray
+            if p.binary == "auto":
+                p = dataclasses.replace(p, binary="off")
     colour_image = image          # the region colours, before any ink map replaces the image below
     if p.binary == "auto" and (line_colour is None or isinstance(line_colour, str)):
         # strokes of several colours on one plain paper (a black stroke with a coloured inner line):
