@@ -48,6 +48,15 @@ NOTCH_ROW_ANGLE = 100.0
 NOTCH_ROW_CUT = 2.0
 #: Largest angle (degrees) between a cut across a row and the row's normal.
 NOTCH_ROW_ACROSS = 30.0
+#: Largest angle (degrees) between a cut across a row and its notch's halving line
+#: (strokes41: a letter's join ~0-20, a cut beside an "M"'s or "N"'s inner "V" 60+).
+NOTCH_ROW_AIM = 45.0
+#: Distance (stroke widths) from a cut's far end to another sharp notch within which the cut
+#: runs notch to notch and is preferred to shorter ones (strokes41).
+NOTCH_ROW_MEET = 0.35
+#: Sharpest angle (degrees) at both notches of such a cut (two letters' outlines crossing
+#: 19-53; the "V"s above and below an "X"'s crossing 66-74).
+NOTCH_ROW_MEET_ANGLE = 60.0
 #: Least length of each side of a cut row along it, over the row's height (a narrow letter
 #: such as "I" ~0.3).
 NOTCH_ROW_SIDE = 0.25
@@ -60,11 +69,18 @@ def _outline(piece: np.ndarray) -> np.ndarray:
     return max(cs, key=len)[:, 0, :].astype(np.int64) if cs else np.zeros((0, 2), np.int64)
 
 
-def _notches(c: np.ndarray, least_depth: float,
-             reach: int) -> list[tuple[int, float, np.ndarray]]:
+def _notches(c: np.ndarray, least_depth: float, reach: int,
+             every: bool = False) -> list[tuple[int, float, np.ndarray]]:
     """Indices along the outline ``c`` of its notches at least ``least_depth`` below the
     convex hull, with their angle (degrees) between the outline ``reach`` points away and the
-    unit vector halving it into the piece."""
+    unit vector halving it into the piece.
+
+    OpenCV's convexity defects give one notch per edge of the hull, its deepest: along a
+    word's straight top every join of two letters lies under one edge, and only the deepest
+    notch (an "N"'s inner corner) was found. With ``every`` each point under an edge that is
+    the deepest within ``reach`` points either side (the first of a flat bottom) is a notch
+    too (strokes41).
+    """
     import cv2
 
     if len(c) < 8:
@@ -77,10 +93,25 @@ def _notches(c: np.ndarray, least_depth: float,
     if d is None:
         return []
     n = len(c)
-    out = []
-    for _, _, f, s in d.reshape(-1, 4):
+    picks = []
+    for s0, e0, f, s in d.reshape(-1, 4):
         if s / 256.0 < least_depth:
             continue
+        picks.append(int(f))
+        if not every:
+            continue
+        k = (int(s0) + np.arange((int(e0) - int(s0)) % n + 1)) % n
+        p, q = c[int(s0)].astype(float), c[int(e0)].astype(float)
+        t = (q - p) / max(float(np.hypot(*(q - p))), 1e-9)
+        depth = np.abs((c[k, 0] - p[0]) * t[1] - (c[k, 1] - p[1]) * t[0])
+        top = ndimage.maximum_filter1d(depth, 2 * reach + 1, mode="constant")
+        cand = np.flatnonzero((depth >= top) & (depth >= least_depth))
+        for r in cand[np.r_[True, np.diff(cand) > reach]] if cand.size else []:
+            gap = abs(int(k[r]) - int(f)) % n
+            if min(gap, n - gap) > reach:
+                picks.append(int(k[r]))
+    out = []
+    for f in picks:
         a = c[(f - reach) % n] - c[f]
         b = c[(f + reach) % n] - c[f]
         la, lb = max(float(np.linalg.norm(a)), 1e-9), max(float(np.linalg.norm(b)), 1e-9)
@@ -226,18 +257,34 @@ def split_at_notches(piece: np.ndarray, least: float) -> np.ndarray | None:
     along = (c[:, 0] - cx) * ex + (c[:, 1] - cy) * ey
     cands = []
     across = np.sin(np.radians(NOTCH_ROW_ACROSS))
-    for i, ang, _ in notches:
-        if ang > NOTCH_ROW_ANGLE:
-            continue
+    aim = np.cos(np.radians(NOTCH_ROW_AIM))
+    every = [nt for nt in _notches(c, NOTCH_DEPTH * rin, max(3, int(round(0.35 * rin))), every=True)
+             if nt[1] <= NOTCH_ROW_ANGLE]
+    near = max(2.0, NOTCH_ROW_MEET * stroke)
+    for i, ang, into in every:
         dist = np.hypot(*(c[idx] - c[i]).T)
         arc = np.abs(idx - i)
         arc = np.minimum(arc, n - arc)
         # a join between letters side by side runs across the row, a cut through a
         # letter's diagonal (an "M"'s, an "N"'s) or along its bar does not
         slant = np.abs((c[idx, 0] - c[i, 0]) * ex + (c[idx, 1] - c[i, 1]) * ey)
+        # (and into the piece along the notch's halving line: from the apex of an "M"'s
+        # middle "V" the shortest cut ran up beside the V's side, cutting a stem off)
+        into_d = (c[idx] - c[i]) @ into
         ok = ((dist <= NOTCH_ROW_CUT * stroke) & (arc >= 1.25 * dist + 2)
-              & (slant <= across * np.maximum(dist, 1e-9)))
+              & (slant <= across * np.maximum(dist, 1e-9)) & (into_d >= aim * dist))
+        # (a far end on another sharp notch: the outlines of two letters crossing on both
+        # sides of the row, preferred to a shorter cut from a notch inside a letter, where an
+        # "M"'s or an "N"'s diagonal leaves its stem, to the letter's straight side)
+        others = np.array([c[k] for k, a, _ in every
+                           if k != i and a <= NOTCH_ROW_MEET_ANGLE]).reshape(-1, 2)
+        meets = (np.hypot(*(c[idx][:, None] - others[None]).transpose(2, 0, 1)).min(axis=1) <= near
+                 if len(others) else np.zeros(idx.size, bool))
+        found = [False, False]
         for j in idx[ok][np.argsort(dist[ok])]:
+            m = bool(meets[np.searchsorted(idx, j)]) and ang <= NOTCH_ROW_MEET_ANGLE
+            if found[m] or found[True]:
+                continue
             a, b = (i, j) if i < j else (j, i)
             s1, s2 = along[a:b + 1], np.concatenate([along[b:], along[:a + 1]])
             if min(np.ptp(s1), np.ptp(s2)) < NOTCH_ROW_SIDE * high:
@@ -245,9 +292,9 @@ def split_at_notches(piece: np.ndarray, least: float) -> np.ndarray | None:
             a1, _, a2, _ = sides(i, int(j))
             if min(a1, a2) < least or not _inside(piece, c[i], c[j]):
                 continue
-            cands.append((float(np.hypot(*(c[j] - c[i]))), i, int(j)))
-            break
-    for _, i, j in sorted(cands):
+            cands.append((not m, float(np.hypot(*(c[j] - c[i]))), i, int(j)))
+            found[m] = True
+    for _, _, i, j in sorted(cands):
         out = _cut(piece, [(c[i], c[j])], least)
         if out is not None:
             return out
