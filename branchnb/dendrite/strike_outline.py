@@ -294,7 +294,7 @@ def _shape_parts(lab_img: np.ndarray, count: int, min_part: float) -> tuple[np.n
     """The part labels ``lab_img`` (1..count) with every part split by shape
     (:func:`split_by_shape`, else
     :func:`~branchnb.dendrite.strike_notch.split_at_notches`), and their parts again."""
-    from .strike_notch import split_at_notches
+    from .strike_notch import split_at_notches, split_round_hole
 
     least = min_part * lab_img.size
     out = lab_img.copy()
@@ -307,7 +307,11 @@ def _shape_parts(lab_img: np.ndarray, count: int, min_part: float) -> tuple[np.n
         if depth >= 8 or piece.sum() < 2 * least:
             continue
         box = ndimage.find_objects(piece.astype(np.int8))[0]
-        split = split_by_shape(piece[box], least)
+        # a ring round a hole first: the watershed merges two of its parts where its necks
+        # are wide (strokes41)
+        split = split_round_hole(piece[box], least)
+        if split is None:
+            split = split_by_shape(piece[box], least)
         if split is None:
             split = split_at_notches(piece[box], least)
             if split is None:
