@@ -38,8 +38,8 @@ strokes). Least outline coverage (ink within 4 px of each object's own outline) 
 after at 256 / 768 px: bold "HAM" 0.07 / 0.07 -> 0.58 / 0.84, "MOON" 0.10 / 0.07 -> 0.41 /
 0.74 (its "M" and "N" were cut inside; strokes41: cut between its letters only, parts 6 -> 4,
 each letter's share in its part 0.53 -> 0.99; the least coverage, on an "O" whose sides are
-joins, 0.52 / 0.71 -> 0.50 / 0.71), a 2 x 2 cluster of discs 1.4 radii apart 0.17 / 0.08 -> 0.41 / 0.57 (only ~0.5 of each
-disc's own outline lies on the cluster's outline, the rest inside; on that share 0.51 /
+joins, 0.52 / 0.71 -> 0.50 / 0.71), a 2 x 2 cluster of discs 1.4 radii apart 0.17 / 0.08 ->
+0.41 / 0.57 (only ~0.5 of each disc's own outline lies on the cluster's outline, the rest inside; on that share 0.51 /
 0.93); single bold letters M, W (0.12-0.20) and the thin and multi-object kinds of
 ``_thin_check``, ``_thin_branch_check`` and ``_multi_bolt_check`` keep their parts. Limits:
 letters under ``OUTLINE_MIN_PART`` of the picture (a line of small text) keep the paper's bolt;
