@@ -74,6 +74,12 @@ NOTCH_ROW_MEET = 0.35
 #: Sharpest angle (degrees) at both notches of such a cut (two letters' outlines crossing
 #: 19-53; the "V"s above and below an "X"'s crossing 66-74).
 NOTCH_ROW_MEET_ANGLE = 60.0
+#: Most holes of at least :data:`NOTCH_RING_HOLE` squared inscribed radii in a piece that
+#: :func:`split_round_hole` cuts (a ring round one hole, its beads' own holes; not a texture).
+NOTCH_RING_HOLES = 12
+#: Least area of a hole whose corners :func:`split_round_hole` reads, in squared inscribed
+#: radii of the piece (6 discs 1.15 radii apart round a hole of ~0.07).
+NOTCH_RING_HOLE = 0.02
 #: Least length of each side of a cut row along it, over the row's height (a narrow letter
 #: such as "I" ~0.3).
 NOTCH_ROW_SIDE = 0.25
@@ -366,21 +372,33 @@ def split_round_hole(piece: np.ndarray, least: float) -> np.ndarray | None:
     piece = np.asarray(piece, bool)
     if piece.ndim != 2:
         raise ValueError(f"piece must be 2-D, got shape {piece.shape}")
-    if piece.sum() < 2 * least or not (ndimage.binary_fill_holes(piece) & ~piece).any():
+    if piece.sum() < 2 * least:
+        return None
+    holes, count = ndimage.label(ndimage.binary_fill_holes(piece) & ~piece)
+    if count == 0:
         return None
     depth = ndimage.distance_transform_edt(np.pad(piece, 1))[1:-1, 1:-1]
     rin = float(depth.max())
     if rin < 2.0:
         return None
+    # a ring's hole, not a texture's pinholes (a speckled 1000-px blob had 2573: their corners
+    # took minutes); a piece with many holes is no ring of round parts
+    area = np.bincount(holes.ravel())[1:]
+    if count > NOTCH_RING_HOLES and (area >= NOTCH_RING_HOLE * rin ** 2).sum() > NOTCH_RING_HOLES:
+        return None
     c = _outline(piece)
     reach = max(3, int(round(0.35 * rin)))
     sharp = [nt for nt in _notches(c, NOTCH_DEPTH * rin, reach) if nt[1] <= NOTCH_ROUND_ANGLE]
-    return _ring_cut(piece, c, sharp, least, reach)
+    if len(sharp) < 2:
+        return None
+    return _ring_cut(piece, c, sharp, least, reach, NOTCH_RING_HOLE * rin ** 2)
 
 
-def _hole_corners(piece: np.ndarray, reach: int) -> list[tuple[np.ndarray, float, np.ndarray]]:
-    """Sharp corners of the piece's holes that point into the piece (where two discs of a
-    ring meet round its hole): ``(point, angle in degrees, unit vector into the piece)``."""
+def _hole_corners(piece: np.ndarray, reach: int,
+                  hole: float = 0.0) -> list[tuple[np.ndarray, float, np.ndarray]]:
+    """Sharp corners of the piece's holes of at least ``hole`` pixels that point into the
+    piece (where two discs of a ring meet round its hole): ``(point, angle in degrees, unit
+    vector into the piece)``."""
     import cv2
 
     cs, hier = cv2.findContours(piece.astype(np.uint8), cv2.RETR_CCOMP, cv2.CHAIN_APPROX_NONE)
@@ -389,7 +407,7 @@ def _hole_corners(piece: np.ndarray, reach: int) -> list[tuple[np.ndarray, float
         return out
     h, w = piece.shape
     for c, (_, _, _, parent) in zip(cs, hier[0]):
-        if parent < 0 or len(c) < 8:
+        if parent < 0 or len(c) < 8 or abs(cv2.contourArea(c)) < hole:
             continue
         c = c[:, 0, :].astype(np.float64)
         # (a small hole's corners lie closer together than the outline's reach)
@@ -412,14 +430,14 @@ def _hole_corners(piece: np.ndarray, reach: int) -> list[tuple[np.ndarray, float
 
 
 def _ring_cut(piece: np.ndarray, c: np.ndarray, sharp: list, least: float,
-              reach: int) -> np.ndarray | None:
+              reach: int, hole: float = 0.0) -> np.ndarray | None:
     """Labels of ``piece`` cut from each sharp notch of its outline to the nearest sharp corner
     of a hole it faces (round parts in a ring round a hole: the outline's notches alone part
     nothing), kept when every side is round (solidity at least :data:`NOTCH_ROUND_SOLID`);
     None otherwise (strokes41, beyond the papers)."""
     if not sharp:
         return None
-    corners = _hole_corners(piece, reach)
+    corners = _hole_corners(piece, reach, hole)
     if not corners:
         return None
     aim = np.cos(np.radians(NOTCH_ROUND_AIM))
