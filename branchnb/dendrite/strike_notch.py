@@ -284,6 +284,7 @@ def split_at_notches(piece: np.ndarray, least: float) -> np.ndarray | None:
     every = [nt for nt in _notches(c, NOTCH_DEPTH * rin, max(3, int(round(0.35 * rin))), every=True)
              if nt[1] <= NOTCH_ROW_ANGLE]
     near = max(2.0, NOTCH_ROW_MEET * stroke)
+    deepest = {nt[0] for nt in notches}
     for i, ang, into in every:
         dist = np.hypot(*(c[idx] - c[i]).T)
         arc = np.abs(idx - i)
@@ -303,7 +304,9 @@ def split_at_notches(piece: np.ndarray, least: float) -> np.ndarray | None:
                            if k != i and a <= NOTCH_ROW_MEET_ANGLE]).reshape(-1, 2)
         meets = (np.hypot(*(c[idx][:, None] - others[None]).transpose(2, 0, 1)).min(axis=1) <= near
                  if len(others) else np.zeros(idx.size, bool))
-        found = [False, False]
+        # (a notch that is not its hull edge's deepest starts notch-to-notch cuts only: on a
+        # jagged outline, a textured blob's, every dent would start one)
+        found = [i not in deepest, False]
         for j in idx[ok][np.argsort(dist[ok])]:
             m = bool(meets[np.searchsorted(idx, j)]) and ang <= NOTCH_ROW_MEET_ANGLE
             if found[m] or found[True]:
