@@ -36,8 +36,10 @@ dendrite43): a 2 x 2 cluster of discs whose middle fills in (its deepest point i
 and a bold word of one colour whose letters touch side by side (their join as wide as two
 strokes). Least outline coverage (ink within 4 px of each object's own outline) before ->
 after at 256 / 768 px: bold "HAM" 0.07 / 0.07 -> 0.58 / 0.84, "MOON" 0.10 / 0.07 -> 0.41 /
-0.74, a 2 x 2 cluster of discs 1.4 radii apart 0.17 / 0.08 -> 0.41 / 0.57 (only ~0.5 of each
-disc's own outline lies on the cluster's outline, the rest inside; on that share 0.51 /
+0.74 (its "M" and "N" were cut inside; strokes41: cut between its letters only, parts 6 -> 4,
+each letter's share in its part 0.53 -> 0.99; the least coverage, on an "O" whose sides are
+joins, 0.52 / 0.71 -> 0.50 / 0.71), a 2 x 2 cluster of discs 1.4 radii apart 0.17 / 0.08 ->
+0.41 / 0.57 (only ~0.5 of each disc's own outline lies on the cluster's outline, the rest inside; on that share 0.51 /
 0.93); single bold letters M, W (0.12-0.20) and the thin and multi-object kinds of
 ``_thin_check``, ``_thin_branch_check`` and ``_multi_bolt_check`` keep their parts. Limits:
 letters under ``OUTLINE_MIN_PART`` of the picture (a line of small text) keep the paper's bolt;
@@ -86,7 +88,9 @@ def outline_parts(sil: np.ndarray, min_part: float = OUTLINE_MIN_PART,
     round parts meet at a neck much narrower than each (:func:`split_by_shape`: two
     overlapping discs, apples side by side) and, with no neck, at the outline's notches
     (:func:`~branchnb.dendrite.strike_notch.split_at_notches`: a 2 x 2 cluster of discs,
-    the touching letters of a bold word).
+    the touching letters of a bold word); a ring of round parts round a hole is first cut
+    from its outline's notches to the hole's corners
+    (:func:`~branchnb.dendrite.strike_notch.split_round_hole`).
 
     Parameters
     ----------
@@ -294,7 +298,7 @@ def _shape_parts(lab_img: np.ndarray, count: int, min_part: float) -> tuple[np.n
     """The part labels ``lab_img`` (1..count) with every part split by shape
     (:func:`split_by_shape`, else
     :func:`~branchnb.dendrite.strike_notch.split_at_notches`), and their parts again."""
-    from .strike_notch import split_at_notches
+    from .strike_notch import split_at_notches, split_round_hole
 
     least = min_part * lab_img.size
     out = lab_img.copy()
@@ -307,7 +311,11 @@ def _shape_parts(lab_img: np.ndarray, count: int, min_part: float) -> tuple[np.n
         if depth >= 8 or piece.sum() < 2 * least:
             continue
         box = ndimage.find_objects(piece.astype(np.int8))[0]
-        split = split_by_shape(piece[box], least)
+        # a ring round a hole first: the watershed merges two of its parts where its necks
+        # are wide (strokes41)
+        split = split_round_hole(piece[box], least)
+        if split is None:
+            split = split_by_shape(piece[box], least)
         if split is None:
             split = split_at_notches(piece[box], least)
             if split is None:
