@@ -1,10 +1,11 @@
 """Extraction keeps real corners (issue 23, branching101): jagged bolts, cracks and zig-zag lines keep
 their turning statistics while straight and smooth lines stay free of the pixel staircase
-(:func:`branchnb.branching.path_smoothing.keep_corners_smooth`)."""
+(:func:`branchnb.branching.path_smoothing.keep_corners_smooth`; in the extraction while
+``path_smoothing.KEEP_CORNERS`` is on, off by default for now)."""
 import numpy as np
 from skimage.draw import line as draw_line
 
-from branchnb.branching import extract_structure
+from branchnb.branching import extract_structure, path_smoothing
 from branchnb.branching.path_smoothing import keep_corners_smooth
 from branchnb.core import draw_polylines, resample_uniform, turning_angles
 
@@ -65,7 +66,8 @@ def test_pixel_zigzag_keeps_its_corners_and_a_diagonal_stays_straight():
     assert np.allclose(sm[[0, -1]], circ[[0, -1]])
 
 
-def test_extracted_zigzag_and_smooth_lines_keep_their_turning():
+def test_extracted_zigzag_and_smooth_lines_keep_their_turning(monkeypatch):
+    monkeypatch.setattr(path_smoothing, "KEEP_CORNERS", True)
     n = 256
     rng = np.random.default_rng(4)
     zz = [_zigzag(n, x, 12.0, rng) for x in (80.0, 180.0)]

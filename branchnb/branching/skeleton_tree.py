@@ -818,7 +818,7 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
             r = r.copy()
             r[:first] = r[first]
         if len(pts) >= 3 and smooth * scale > _NO_BLUR:
-            pts = keep_corners_smooth(pts, smooth * scale, noise=NOISE_PX / scale)
+            pts = _smooth_pixels(pts, smooth * scale, NOISE_PX / scale)
         if len(r) >= 3 and smooth_radius * scale > _NO_BLUR:
             r = _median_then_gauss(r, smooth_radius * scale)
         length = polyline_length(pts)
@@ -856,7 +856,7 @@ def _cycle_joins(g, pred, dist, paths, new_index, built, pts_full, r_full, min_l
     for nodes, b0, b1 in cycle_chains(g, pred, dist, on_built, min_loop):
         pts, r = pts_full[nodes], r_full[nodes]
         if len(pts) >= 3 and smooth > _NO_BLUR:
-            pts = keep_corners_smooth(pts, smooth, noise=noise)
+            pts = _smooth_pixels(pts, smooth, noise)
         # the radius of the lines it joins (the distance transform swells where they meet)
         rr = float(np.median(r))
         rp = resample_uniform(pts, h, include_end=True) if polyline_length(pts) >= h else pts[[0, -1]]
@@ -873,6 +873,18 @@ def _cycle_joins(g, pred, dist, paths, new_index, built, pts_full, r_full, min_l
 
 #: Gaussian sigmas (pixels) below this are no smoothing (scipy divides by a vanishing sigma).
 _NO_BLUR = 1e-3
+
+
+def _smooth_pixels(pts: np.ndarray, sigma: float, noise: float) -> np.ndarray:
+    """A pixel path smoothed over ``sigma`` samples, its ends kept (corners too when
+    :data:`.path_smoothing.KEEP_CORNERS`)."""
+    from . import path_smoothing
+
+    if path_smoothing.KEEP_CORNERS:
+        return keep_corners_smooth(pts, sigma, noise=noise)
+    sm = ndi.gaussian_filter1d(pts, sigma, axis=0, mode="nearest")
+    sm[0], sm[-1] = pts[0], pts[-1]
+    return sm
 
 
 def _median_then_gauss(r: np.ndarray, sigma: float) -> np.ndarray:
