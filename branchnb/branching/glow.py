@@ -230,7 +230,7 @@ def near_glowing_share(image: np.ndarray, pm: PixelMap, tol: float = 0.03) -> fl
 
 
 #: A thin glow (a 1-2 px core with a glow of sigma 1-1.5 px, a bolt photo shrunk to 128 px) leaves only
-#: 0.3-0.9 of :func:`near_glowing_share`'s ring non-flat (drawn anti-aliased lines 0-0.37, a cased road
+#: 0.3-0.9 of :func:`near_glowing_share`'s ring non-flat (drawn anti-aliased lines 0-0.41, a cased road
 #: the most): glow_model takes such lines as glowing from this share on when :func:`glow_tail` tells
 #: them apart (beyond the paper, issue 23).
 THIN_RING = 0.2
