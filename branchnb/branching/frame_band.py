@@ -241,11 +241,22 @@ def parallel_keep(tip, new_pts: np.ndarray, run: float, shape, skip_side: int = 
 
 #: A root entering from the frame (its start within :data:`ENTRY_PX` + 2 radii of a side) keeps its
 #: bearing (:func:`bearing_keep`): its chord over the last :data:`BEARING_WINDOW` px (or
-#: :data:`PARALLEL_SHARE` x the entry side, when longer) turns at most the example's own largest turn
-#: of such a chord off the entry side's inward normal (:func:`entry_turn_limit`) plus this (degrees).
+#: :data:`PARALLEL_SHARE` x the entry side, when longer) turns at most the example's own largest turn of such a
+#: chord off the entry side's inward normal (:func:`entry_turn_limit`) plus this (degrees; at most
+#: :data:`ENTRY_TURN_CAP`).
 BEARING_MARGIN = 20.0
 #: See :data:`BEARING_MARGIN` (pixels).
 BEARING_WINDOW = 25.0
+#: :func:`entry_turn_limit` never exceeds this (degrees; branching101): a root entering by a side whose
+#: chord turns further runs along that side or back towards it. The example's own roots reach such turns
+#: only where the traced path takes a fork or a jag of a bolt (``_frame_hug_check`` bolt 256 px: 85.5 deg
+#: at seed 1, 149.5 at seed 5), and the limit then let the output's trunk run sideways (seed 1: 26.8 deg
+#: off the example's bearing, limit 105.5). A comb (tests/test_branching_radius_fidelity.py) turns 60.6.
+#: ``python -m branchnb.branching._frame_hug_check 0,...,9 bolt "" 256``: 2 -> 0 of 10 over 25 deg (seed 1
+#: 26.8 -> 2.0, 3 25.5 -> 24.8, 5 15.1 -> 0.2, the rest unchanged); roots and rivers seeds 0-4 unchanged
+#: but river 3 (21.5 -> 20.5). (The chords' 90th percentile instead of their largest turn: as good on
+#: these, but it moved the comb's radius histogram past its bound.)
+ENTRY_TURN_CAP = 80.0
 #: A root starts at the frame within this many pixels plus 2 of its radii (the medial axis of a thick
 #: line stops about a radius short of the frame that cuts it).
 ENTRY_PX = 4.0
@@ -303,8 +314,8 @@ def _chord_turns(p: np.ndarray, inward: np.ndarray, window: float) -> np.ndarray
 
 def entry_turn_limit(example: Structure) -> float:
     """The largest turn (degrees) off its entry side's inward normal of a chord (:func:`bearing_window`)
-    along any root of ``example`` that enters from its frame, plus :data:`BEARING_MARGIN`; ``inf`` when
-    none enters (or no ``image_shape``).
+    along any root of ``example`` that enters from its frame, plus :data:`BEARING_MARGIN`, at most
+    :data:`ENTRY_TURN_CAP`; ``inf`` when none enters (or no ``image_shape``).
 
     Beyond the paper (issue 23, branching87): see :func:`bearing_keep`.
 
@@ -333,7 +344,7 @@ def entry_turn_limit(example: Structure) -> float:
     if not turns:
         return float("inf")
     t = np.concatenate(turns)
-    return float((t.max() if len(t) else 0.0) + BEARING_MARGIN)
+    return float(min((t.max() if len(t) else 0.0) + BEARING_MARGIN, ENTRY_TURN_CAP))
 
 
 def bearing_keep(points, new_pts: np.ndarray, side: int, limit: float, shape) -> np.ndarray:

@@ -38,9 +38,14 @@ example smoothed (:func:`calm_example`); its ground keeps the grain
 rim (:func:`near_glowing_share`). The profile is measured in half-pixel
 bins, so a thin core drawn off the pixel grid peaks as the example's.
 
+A thin glow (a 1-2 px core, a glow of sigma 1.25-2 px: a bolt photo shrunk
+to 128 px) leaves only part of those rings non-flat (0.3-0.9); it is told
+apart from an anti-aliased drawn line by the light it casts 2 px past its
+rim (:func:`glow_tail`, :data:`THIN_TAIL`).
+
 Limits: a textured ground (not grain) keeps the textured path; a glow
-narrower than a pixel or two (a bolt photo shrunk to 128 px) is not told
-apart from an anti-aliased drawn line and is drawn flat; an output radius
+of sigma about 1 px around a 1 px core is a soft line (its tail is under
+:data:`THIN_TAIL`) and is drawn flat; an output radius
 under the example's thinnest class takes that class's profile.
 """
 
@@ -53,7 +58,8 @@ import numpy as np
 
 from .skeleton_map import PixelMap
 
-__all__ = ["GlowModel", "calm_example", "glow_model", "glowing_share", "ground_noise", "near_glowing_share"]
+__all__ = ["GlowModel", "calm_example", "glow_model", "glow_tail", "glowing_share", "ground_noise",
+           "near_glowing_share"]
 
 #: Pixel noise (robust sigma, :func:`ground_noise`) above which a ground counts as grainy and the glow
 #: tests look at it smoothed (:func:`calm_example`). A clean render or a drawn map: 0-0.002; the
@@ -221,6 +227,80 @@ def near_glowing_share(image: np.ndarray, pm: PixelMap, tol: float = 0.03) -> fl
         ch = np.ascontiguousarray(img[..., c])
         rng_ = np.maximum(rng_, cv2.dilate(ch, k) - cv2.erode(ch, k))
     return float(np.mean(rng_[ring] >= tol))
+
+
+#: A thin glow (a 1-2 px core with a glow of sigma 1-1.5 px, a bolt photo shrunk to 128 px) leaves only
+#: 0.3-0.9 of :func:`near_glowing_share`'s ring non-flat (drawn anti-aliased lines 0-0.41, a cased road
+#: the most): glow_model takes such lines as glowing from this share on when :func:`glow_tail` tells
+#: them apart (beyond the paper, issue 23).
+THIN_RING = 0.2
+#: Smallest :func:`glow_tail` of a thin glow: procedural 128 px glows of sigma 1.25-2 px around 1-2 px
+#: cores 0.031-0.305 (sigma 1 px around a 2 px core 0.039-0.042); drawn lines (1-3 px, anti-aliased,
+#: shrunk from 3x, JPEG q75, cased, on a gradient ground) 0.000-0.010. (Drawn trees of tapering strokes
+#: reach 0.055, but their ring does not brighten towards the lines all round: ``_towards_lines`` 0.03-0.31.)
+THIN_TAIL = 0.02
+
+
+def glow_tail(image: np.ndarray, pm: PixelMap, near: float = 2.0, far: float = 4.0) -> float:
+    """How much light a line casts past its rim: the median luminance ``near`` px beyond each line's
+    radius, less the one ``far`` px beyond (when above the ground), over the core's contrast.
+
+    Beyond the paper (issue 23). An anti-aliased drawn line meets its ground within a pixel of its rim
+    (its radius ``r`` from the pixel map): 2 px beyond it the median is the ground's whatever its
+    width (shrunk, JPEG-compressed, cased: 0.000; on a gradient ground at most 0.010); a glow still
+    lights it (0.03-0.3 of the core's contrast for glows of sigma 1.25-2 px), and fades further out.
+    Measured against ``d - r`` per pixel, lines of many widths (a drawn tree) pool alike.
+
+    Parameters
+    ----------
+    image : (H, W[, C]) float ndarray
+        The example, float in [0, 1].
+    pm : PixelMap
+        Its structure's pixel map.
+    near, far : float
+        Distances beyond the radius (pixels) of the lit ring and of the faded one; the ground is the
+        median ``far + 2 .. far + 6`` px beyond it.
+
+    Returns
+    -------
+    float
+        The share of the core's contrast (0 when the lit ring is not lit towards the core's side, when
+        the core barely stands out, or when too few pixels are measured).
+
+    Examples
+    --------
+    >>> import numpy as np, cv2
+    >>> from branchnb.core.structure import Branch, Structure
+    >>> from branchnb.branching.skeleton_map import SkeletonMap
+    >>> core = np.zeros((60, 80), np.float32); core[29:31, 5:75] = 1.0
+    >>> pm = SkeletonMap(Structure([Branch([(5, 29.5), (74, 29.5)], 1.0)]), 1.0).pixel_map((60, 80))
+    >>> glow = 0.1 + 0.8 * core + 1.2 * cv2.GaussianBlur(core, (0, 0), 1.5)
+    >>> drawn = 0.1 + 0.8 * core
+    >>> bool(glow_tail(glow, pm) > 0.02), bool(glow_tail(drawn, pm) < 0.01)
+    (True, True)
+    """
+    img = np.asarray(image, np.float32)
+    lum = img[..., :3].mean(axis=2) if img.ndim == 3 else img
+    fin = np.isfinite(pm.dist) & np.isfinite(pm.radius)
+    d = pm.dist[fin]
+    u = d - pm.radius[fin]
+    v = lum[fin]
+    core = v[d <= 0.5]
+    ground = (u >= far + 2.0) & (u <= far + 6.0)
+    if core.size < 10 or np.count_nonzero(ground) < 10:
+        return 0.0
+    g = float(np.median(v[ground]))
+    c = float(np.median(core)) - g
+    if abs(c) < 0.05:
+        return 0.0
+
+    def at(x: float) -> float:
+        # a one-pixel window: an axis-aligned line's pixels lie at whole-and-a-half distances only
+        m = np.abs(u - x) <= 0.5
+        return float(np.median(v[m]) - g) / c if np.count_nonzero(m) >= 10 else 0.0
+
+    a = at(near)
+    return a - max(at(far), 0.0) if a > 0 else 0.0
 
 
 def _towards_lines(image: np.ndarray, pm: PixelMap) -> float:
@@ -470,7 +550,9 @@ def glow_model(image: np.ndarray, pm: PixelMap, labels: np.ndarray | None = None
     tol : float, default 0.03
         Flatness threshold of :func:`glowing_share`.
     share : float, default 0.8
-        Smallest :func:`glowing_share` of glowing lines.
+        Smallest ring share (the larger of :func:`glowing_share` and
+        :func:`near_glowing_share`) of glowing lines; from :data:`THIN_RING`
+        on when :func:`glow_tail` reaches :data:`THIN_TAIL` (a thin glow).
     max_reach : int, optional
         Largest glow reach (px); None = 1/8 of the example's smaller side, at least 8.
 
@@ -503,7 +585,10 @@ def glow_model(image: np.ndarray, pm: PixelMap, labels: np.ndarray | None = None
     far = np.isfinite(pm.dist) & (pm.dist > cap)
     # a textured ground is non-flat beside the lines as everywhere else: no glow is told apart
     rest = float(np.mean(_local_range(test)[far] >= tol)) if far.any() else 0.0
-    if ring < share or ring - rest < 0.5 or _towards_lines(test, pm) < 0.7:
+    if ring - rest < (0.5 if ring >= share else THIN_RING) or ring < THIN_RING or _towards_lines(test, pm) < 0.7:
+        return None
+    if ring < share and glow_tail(test, pm) < THIN_TAIL:
+        # a ring this flat is an anti-aliased drawn line's unless the light fades beyond its rim
         return None
     lum = test[..., :3].mean(axis=2)
     finite = np.isfinite(pm.dist) & np.isfinite(pm.radius)

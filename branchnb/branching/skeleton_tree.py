@@ -20,6 +20,7 @@ from ..core.polyline import arc_length, polyline_length, resample_uniform
 from ..core.structure import Branch, Structure
 from .delta_source import _delta_source_key, _fan_root
 from .frame_trunks import frame_trunks
+from .path_smoothing import NOISE_PX, keep_corners_smooth
 from .skeleton_roots import (  # noqa: F401  (re-exported: split from this module)
     ENTRY_FRAME,
     ENTRY_RADII,
@@ -460,9 +461,7 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
             r = r.copy()
             r[:first] = r[first]
         if len(pts) >= 3 and smooth * scale > _NO_BLUR:
-            sm = ndi.gaussian_filter1d(pts, smooth * scale, axis=0, mode="nearest")
-            sm[0], sm[-1] = pts[0], pts[-1]
-            pts = sm
+            pts = _smooth_pixels(pts, smooth * scale, NOISE_PX / scale)
         if len(r) >= 3 and smooth_radius * scale > _NO_BLUR:
             r = _median_then_gauss(r, smooth_radius * scale)
         length = polyline_length(pts)
@@ -482,12 +481,13 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
         new_index[bi] = len(built) - 1
     if close_cycles > 0 and built:
         built += _cycle_joins(g, pred, dist, paths, new_index, built, pts_full, r_full,
-                              close_cycles * scale, h, scale * smooth, scale * smooth_radius)
+                              close_cycles * scale, h, scale * smooth, scale * smooth_radius,
+                              NOISE_PX / scale)
     return Structure(built, image_shape=out.image_shape)
 
 
 def _cycle_joins(g, pred, dist, paths, new_index, built, pts_full, r_full, min_loop, h, smooth,
-                 smooth_radius) -> list[Branch]:
+                 smooth_radius, noise) -> list[Branch]:
     """Join branches closing the cycles the tree cut (see ``close_cycles`` and :mod:`.skeleton_cycles`)."""
     from .skeleton_cycles import cycle_chains
 
@@ -499,9 +499,7 @@ def _cycle_joins(g, pred, dist, paths, new_index, built, pts_full, r_full, min_l
     for nodes, b0, b1 in cycle_chains(g, pred, dist, on_built, min_loop):
         pts, r = pts_full[nodes], r_full[nodes]
         if len(pts) >= 3 and smooth > _NO_BLUR:
-            sm = ndi.gaussian_filter1d(pts, smooth, axis=0, mode="nearest")
-            sm[0], sm[-1] = pts[0], pts[-1]
-            pts = sm
+            pts = _smooth_pixels(pts, smooth, noise)
         # the radius of the lines it joins (the distance transform swells where they meet)
         rr = float(np.median(r))
         rp = resample_uniform(pts, h, include_end=True) if polyline_length(pts) >= h else pts[[0, -1]]
@@ -518,6 +516,18 @@ def _cycle_joins(g, pred, dist, paths, new_index, built, pts_full, r_full, min_l
 
 #: Gaussian sigmas (pixels) below this are no smoothing (scipy divides by a vanishing sigma).
 _NO_BLUR = 1e-3
+
+
+def _smooth_pixels(pts: np.ndarray, sigma: float, noise: float) -> np.ndarray:
+    """A pixel path smoothed over ``sigma`` samples, its ends kept (corners too when
+    :data:`.path_smoothing.KEEP_CORNERS`)."""
+    from . import path_smoothing
+
+    if path_smoothing.KEEP_CORNERS:
+        return keep_corners_smooth(pts, sigma, noise=noise)
+    sm = ndi.gaussian_filter1d(pts, sigma, axis=0, mode="nearest")
+    sm[0], sm[-1] = pts[0], pts[-1]
+    return sm
 
 
 def _median_then_gauss(r: np.ndarray, sigma: float) -> np.ndarray:
