@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 from scipy import ndimage as ndi
 from scipy.spatial import Delaunay
+from trees_facets import facet_regions
 
 from branchnb.trees import TreeLibrary
 from branchnb.trees import variations as V
@@ -74,19 +75,7 @@ def lowpoly(size, seed, crown="round"):
 def bent_facet_borders(img, crown, tol=1.5):
     """Share of the borders between two flat facet regions inside the crown (20+ px long) whose
     pixels stray more than ``tol`` px from their fitted straight line."""
-    q = np.round(img[..., :3] * 64).astype(np.int64)
-    key = np.where(crown, (q[..., 0] * 256 + q[..., 1]) * 256 + q[..., 2], -1)
-    lab, n = np.zeros(crown.shape, np.int32), 0
-    vals, cnt = np.unique(key[crown], return_counts=True)
-    for v in vals[cnt >= 30]:
-        sub, _ = ndi.label(key == v)
-        sizes = np.bincount(sub.ravel())
-        sizes[0] = 0
-        for j in np.flatnonzero(sizes >= 30):
-            n += 1
-            lab[sub == j] = n
-    _, (iy, ix) = ndi.distance_transform_edt(lab == 0, return_indices=True)
-    lab = np.where(crown, lab[iy, ix], 0)
+    lab, _ = facet_regions(img, crown, 30)
     core = ndi.binary_erosion(crown, iterations=2)
     pairs = {}
     for dy, dx in ((0, 1), (1, 0)):

@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 from scipy import ndimage as ndi
 from scipy.spatial import Delaunay
+from trees_facets import facet_regions
 
 from branchnb.trees import TreeLibrary
 from branchnb.trees import variations as V
@@ -61,19 +62,7 @@ def seam_straightness(img, crown, tol=1.0, min_len=0.06):
     """Share of facet-border pixels (two flat regions meeting inside the crown) within ``tol`` px of a
     straight segment at least ``min_len`` of the crown's size long (Douglas-Peucker of each region's
     outline, holes included)."""
-    q = np.round(img[..., :3] * 64).astype(np.int64)
-    key = np.where(crown, (q[..., 0] * 256 + q[..., 1]) * 256 + q[..., 2], -1)
-    lab, n = np.zeros(crown.shape, np.int32), 0
-    vals, cnt = np.unique(key[crown], return_counts=True)
-    for v in vals[cnt >= 20]:
-        sub, _ = ndi.label(key == v)
-        sizes = np.bincount(sub.ravel())
-        sizes[0] = 0
-        for j in np.flatnonzero(sizes >= 20):
-            n += 1
-            lab[sub == j] = n
-    _, (iy, ix) = ndi.distance_transform_edt(lab == 0, return_indices=True)
-    lab = np.where(crown, lab[iy, ix], 0)
+    lab, n = facet_regions(img, crown, 20)
     core = ndi.binary_erosion(crown, iterations=2)
     long = max(6.0, min_len * np.sqrt(crown.sum()))
     good = tot = 0
