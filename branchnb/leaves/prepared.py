@@ -110,10 +110,11 @@ def registration_errors(analysis) -> list[float]:
 #: leaf whose band lies elsewhere that rim drew long cream threads through its green centre. The
 #: band's mask stops 1-2 px short of its colour's edge (the windowed colour term's rim), so the
 #: 2 px kept from other layers left the rim to the veins. Cream share of new leaves' green cores
-#: (eroded 3 px; ``tests/test_leaves_variegated.py`` leaves, 5 exemplars at 400 px, rng 0): 0.0041-0.0069
-#: on five of six leaves -> 0.0003-0.0008 (the sixth's 0.025 are pale veins, unchanged); at 600 px
-#: (6 exemplars) mean 0.018 -> 0.011: the rest are gaps the vein induction itself cut along the band
-#: edge (open).
+#: (eroded 3 px; the leaves of ``tests/test_leaves_variegated.py``, 6 new leaves, rng 0): 240 px
+#: (4 exemplars) mean 0.0027 -> 0.0006; 400 px (5) 0.0008-0.0069 on five of six -> 0.0003-0.0008 (the
+#: sixth's 0.025 are its pasted pale veins, unchanged); 600 px (6) mean 0.018 -> 0.011, max 0.034 ->
+#: 0.022: the rest are cream strips cut off the pasted band by a ring the vein induction itself took
+#: along the donor's band edge (open).
 _BAND_EDGE = 4
 
 
