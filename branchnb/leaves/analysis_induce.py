@@ -395,7 +395,8 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         delta_s = colour_delta(colour[t], user, blades[t], lam, tr_iou, snapped is not None)
 
         def induced(e, user=user, snapped=snapped, residual=residual, labs=labs, own=own, steps_kept=steps_kept,
-                    combined=combined, delta=delta, tr_iou=tr_iou, colour=colour, reach=band_reach):
+                    combined=combined, delta=delta, tr_iou=tr_iou, colour=colour, reach=band_reach,
+                    delta_s=delta_s):
             m, c = _exemplar_mask(steps_kept, e, combined[e], delta, tr_iou, taken[e], contrast_of,
                                   colour_e=colour[e], band_delta=reach, delta_s=delta_s)
             gone = m if snapped is None or e == t else _ridge_extension(residual, blades, t, e, user, m, stats, params,
