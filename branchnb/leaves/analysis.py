@@ -19,6 +19,7 @@ from ..core.params import check_params
 from ..core.random import as_rng
 from ..core.threads import thread_map
 from ..core.validate import check_int, check_shape
+from .analysis_combine import colour_delta
 from .analysis_induce import (  # noqa: F401  (importable from here as before)
     COLOUR_RELIABLE,
     INKED_OUTLINE,
@@ -381,9 +382,10 @@ def _retuned(analysis, changes):
 
         masks = []
         reach = band_threshold(colour[t], user, a.blades[t]) if steps.band else None
+        delta_s = colour_delta(colour[t], user, a.blades[t], lam, tr_iou, steps.snapped is not None)
         for e in range(len(a.blades)):
             m, _ = _exemplar_mask(steps, e, combined[e], delta, tr_iou, taken[e], contrast_of,
-                                  colour_e=colour[e], band_delta=reach)
+                                  colour_e=colour[e], band_delta=reach, delta_s=delta_s)
             moved = m & taken[e]
             if moved.any():  # marks given back by their shape leave the layers above (as in induce)
                 for above in layers:

@@ -13,7 +13,7 @@ from ..core.validate import check_bool, check_real
 from .induction import choose_threshold, layer_weight, liberal_layer, spatial_term
 from .induction_scatter import TIE_LEVEL, positional_tie, scattered_layer
 
-__all__ = ["registration_tolerance", "unmatched_liberal", "warp_mask"]
+__all__ = ["colour_alone", "colour_delta", "registration_tolerance", "unmatched_liberal", "warp_mask"]
 
 
 def warp_mask(registration, mask, *, to_training: bool, level: float = 0.5) -> np.ndarray:
@@ -151,6 +151,68 @@ def _over_induced(combined, delta, blade, user, blade_t) -> bool:
     expected = float(np.count_nonzero(user)) / max(float(np.count_nonzero(blade_t)), 1.0) * float(
         np.count_nonzero(blade))
     return float(np.count_nonzero((combined < delta) & blade)) > OVER_INDUCED * max(expected, 1.0)
+
+
+#: A thin layer's ``{D < delta}`` on an exemplar covering more than this many times the layer's
+#: expected area there, with ``lambda > 0``, is read by its colour term alone (:func:`colour_alone`).
+THIN_OVER = 2.0
+
+
+def colour_delta(colour_t, user, blade_t, lam: float, training_overlap: float, thin: bool):
+    """The training leaf's threshold of ``S`` alone (eq. 4 at ``lambda = 0``) for :func:`colour_alone`.
+
+    None where :func:`colour_alone` never applies: a layer that is not thin, ``lambda`` 0 (``D`` is
+    ``S`` already) or a training overlap under :data:`COLOUR_RELIABLE` (the snapped paths are induced).
+    """
+    if not thin or lam <= 0 or training_overlap < COLOUR_RELIABLE:
+        return None
+    return choose_threshold(np.asarray(colour_t), user, blade_t)[0]
+
+
+def colour_alone(combined_e, delta, colour_e, delta_s, blade, user, blade_t):
+    """``(D, delta)`` of a thin layer on one exemplar: the paper's, or its colour term alone where that
+    takes the blade round the layer.
+
+    Beyond the paper (issue 22, leaves80). ``delta`` is chosen on the
+    training leaf, where ``lambda F`` lifts the blade beside a vein well
+    above the veins: with pale veins on a flat blade (``S`` 0.002 on the
+    veins, 0.73 on the blade) ``lambda`` 0.24 put ``delta`` at 0.95. Colour
+    matching scales each channel by the ratio of the blades' spreads, a
+    guess for a nearly flat blade's tiny ``b*`` spread (0.1-0.8): it put
+    two exemplars' plain blade at ``S`` 0.49-0.55, and their
+    ``{D < delta}`` took a 2-3 px sleeve of blade round every registered
+    vein (4-5.4 times the layer's area; the other exemplars 1.0). With
+    ``lambda`` 0 (before :func:`unmatched_liberal` gave these leaves a
+    positional tie) ``delta`` fell between the two and the veins were
+    induced with IoU 0.98-0.99; with ``lambda`` it was 0.88-0.89. Such an
+    exemplar (``{D < delta}`` over :data:`THIN_OVER` times the training
+    layer's share of its blade) is read by ``S_e`` and the training leaf's
+    threshold of ``S`` alone (``delta_s``, :func:`colour_delta`);
+    ``lambda`` is kept for the others.
+
+    Parameters
+    ----------
+    combined_e, colour_e : (H, W) ndarray
+        ``D`` and ``S_e`` on the exemplar.
+    delta : float
+        The layer's threshold of ``D``.
+    delta_s : float or None
+        :func:`colour_delta` (None: ``(combined_e, delta)`` as they are).
+    blade, user, blade_t : (H, W) bool ndarray
+        The exemplar's blade, the training layer and the training blade.
+
+    Returns
+    -------
+    combined : (H, W) ndarray
+    delta : float
+    """
+    if delta_s is None or colour_e is None:
+        return combined_e, delta
+    expected = float(np.count_nonzero(user)) / max(float(np.count_nonzero(blade_t)), 1.0) * float(
+        np.count_nonzero(blade))
+    if float(np.count_nonzero((np.asarray(combined_e) < delta) & blade)) <= THIN_OVER * max(expected, 1.0):
+        return combined_e, delta
+    return np.asarray(colour_e), float(delta_s)
 
 
 #: Share of the training leaf's colour matches (``S_t`` under the liberal threshold) that must be the

@@ -28,6 +28,7 @@ from .analysis_combine import (  # noqa: F401  (importable from here as before)
     _induced,
     _liberal_to_training,
     _over_induced,
+    colour_delta,
     registration_tolerance,
     unmatched_liberal,
     warp_mask,
@@ -391,11 +392,13 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
             return _contrast_map(labs[t], labs[e], steps_kept, e)
 
         report(step / steps, f"layer {name}: masks")
+        delta_s = colour_delta(colour[t], user, blades[t], lam, tr_iou, snapped is not None)
 
         def induced(e, user=user, snapped=snapped, residual=residual, labs=labs, own=own, steps_kept=steps_kept,
-                    combined=combined, delta=delta, tr_iou=tr_iou, colour=colour, reach=band_reach):
+                    combined=combined, delta=delta, tr_iou=tr_iou, colour=colour, reach=band_reach,
+                    delta_s=delta_s):
             m, c = _exemplar_mask(steps_kept, e, combined[e], delta, tr_iou, taken[e], contrast_of,
-                                  colour_e=colour[e], band_delta=reach)
+                                  colour_e=colour[e], band_delta=reach, delta_s=delta_s)
             gone = m if snapped is None or e == t else _ridge_extension(residual, blades, t, e, user, m, stats, params,
                                                                         labs=labs, direction=own[e])
             if e == t and steps_kept.band_coloured is not None:

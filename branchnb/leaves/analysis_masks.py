@@ -72,16 +72,18 @@ def _contrast_map(lab_t, lab_e, steps: _MaskSteps, e: int) -> np.ndarray:
 
 
 def _exemplar_mask(steps: _MaskSteps, e: int, combined_e, delta: float, tr_iou: float, taken_e, contrast_of,
-                   colour_e=None, band_delta: float | None = None):
+                   colour_e=None, band_delta: float | None = None, delta_s: float | None = None):
     """The induced layer on exemplar ``e`` and the contrast map it was trimmed by (or None).
 
     ``combined_e`` its ``D``, ``delta`` and ``tr_iou`` the layer's threshold and training overlap,
     ``taken_e`` what the layers above took there, ``contrast_of(e)`` the contrast map when needed
     (:func:`_contrast_map`; computed only then); ``colour_e`` its colour term ``S_e`` and ``band_delta``
     the training leaf's threshold on it, for a band along the outline
-    (:func:`~branchnb.leaves.margin_band.band_extent`, :func:`~branchnb.leaves.margin_band.band_threshold`).
+    (:func:`~branchnb.leaves.margin_band.band_extent`, :func:`~branchnb.leaves.margin_band.band_threshold`);
+    ``delta_s`` a thin layer's training threshold of ``S`` alone, for an exemplar whose ``D`` takes the
+    blade round the layer (:func:`~branchnb.leaves.analysis_combine.colour_alone`).
     """
-    from .analysis_combine import COLOUR_RELIABLE, _induced, _over_induced
+    from .analysis_combine import COLOUR_RELIABLE, _induced, _over_induced, colour_alone
     from .analysis_own import _own_delta
     from .analysis_trim import _trimmed
     from .own_contrast import trim_by_contrast, without_blobs
@@ -96,6 +98,8 @@ def _exemplar_mask(steps: _MaskSteps, e: int, combined_e, delta: float, tr_iou: 
         if s.band_coloured is not None and s.band_coloured[e] is not None:
             m = band_rim(m, s.band_coloured[e], blade & ~taken_e, s.band_reach)
         return m, None
+    if s.snapped is not None:
+        combined_e, delta = colour_alone(combined_e, delta, colour_e, delta_s, blade, s.user, s.blades[t])
     over = s.snapped is not None and _over_induced(combined_e, delta, blade, s.user, s.blades[t])
     m = _induced(combined_e, delta, tr_iou, s.snapped, e, blade, taken_e, centred=s.centred, over=over)
     # Only where the exemplar's layer has its own colour model (re-chosen
