@@ -163,6 +163,25 @@ def colour_delta(colour_t, user, blade_t, lam: float, training_overlap: float, t
 
     None where :func:`colour_alone` never applies: a layer that is not thin, ``lambda`` 0 (``D`` is
     ``S`` already) or a training overlap under :data:`COLOUR_RELIABLE` (the snapped paths are induced).
+
+    Parameters
+    ----------
+    colour_t : (H, W) ndarray
+        ``S`` on the training leaf.
+    user : (H, W) bool ndarray
+        The training layer.
+    blade_t : (H, W) bool ndarray
+        The training blade.
+    lam : float
+        The layer's ``lambda``.
+    training_overlap : float
+        The layer's overlap on the training leaf.
+    thin : bool
+        Whether the layer is a thin (line) layer.
+
+    Returns
+    -------
+    float or None
     """
     if not thin or lam <= 0 or training_overlap < COLOUR_RELIABLE:
         return None
@@ -192,10 +211,12 @@ def colour_alone(combined_e, delta, colour_e, delta_s, blade, user, blade_t):
 
     Parameters
     ----------
-    combined_e, colour_e : (H, W) ndarray
-        ``D`` and ``S_e`` on the exemplar.
+    combined_e : (H, W) ndarray
+        ``D`` on the exemplar.
     delta : float
         The layer's threshold of ``D``.
+    colour_e : (H, W) ndarray or None
+        ``S_e`` on the exemplar.
     delta_s : float or None
         :func:`colour_delta` (None: ``(combined_e, delta)`` as they are).
     blade, user, blade_t : (H, W) bool ndarray
