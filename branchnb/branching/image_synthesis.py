@@ -141,6 +141,34 @@ def _grainy_glow(ex: np.ndarray, pm_s, p, cached: dict) -> None:
     cached.update(calm=calm, labels_ex=labels, flat_share=share, flat_glow=glow)
 
 
+def _flat_lines(canvas, cached: dict, example_structure, target_structure, pm_s, pm_t, regions, p,
+                use_poisson: bool, rng):
+    """``canvas`` with lines of one flat colour on a textured ground redrawn (:mod:`.flat_lines`); the
+    example's measures are kept in ``cached``; other examples' ``canvas`` unchanged."""
+    from .flat_lines import flat_line_colour, line_width_scale, redraw_flat_lines
+
+    if "flat_lines" not in cached:
+        ex = cached["ex"]
+        found = flat_line_colour(ex, pm_s, regions.unusable)
+        if found is not None:
+            found = found + (line_width_scale(ex, example_structure, pm_s, *found),)
+        cached["flat_lines"] = found
+    if cached["flat_lines"] is None:
+        return canvas
+    from .gap_quilting import quilt_gaps
+
+    line, ground, scale = cached["flat_lines"]
+
+    def quilt(c, covered, example, forbidden):
+        quilt_gaps(c, covered, example, forbidden, patch_size=max(8, p.patch_size // 2), overlap=p.patch_overlap,
+                   protect=None, tolerance=p.completion_tolerance, forbid_weight=p.forbid_weight, method=p.seams,
+                   poisson=use_poisson, anchored=p.anchors, anchor_weight=p.anchor_weight,
+                   screen=p.completion_screen if p.anchors else 0.0, min_free=p.min_free, rng=rng)
+
+    return redraw_flat_lines(canvas, cached["ex"], regions.forbidden, target_structure, pm_t, line, ground, scale,
+                             quilt)
+
+
 def _two_colours(image: np.ndarray) -> bool:
     """Whether every pixel of ``image`` has one of at most two colours (a binary mask)."""
     flat = np.ascontiguousarray(image.reshape(-1, image.shape[2]) if image.ndim == 3 else image.reshape(-1, 1))
@@ -508,6 +536,13 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
             and target_domain is not None and target_domain.any() and not target_domain.all():
         # beyond the paper: a photo's matte (a fundus's black surround) stays outside the domain
         canvas = _keep_matte(canvas, target_domain, cached["matte_colour"])
+    if p.flat_drawing and not flat and flat_share < 0.5 and boundary is None and cached["shading"] is None \
+            and not cached.get("patchwork", 0.0) and not getattr(example_structure, "hubs", None):
+        # beyond the paper (issue 23): lines of one flat colour on a textured ground (roots on soil, chalk
+        # on a blackboard) are redrawn in that colour at the target's radii on re-quilted ground: the
+        # seams' colour correction made pale halos at junctions and tips, the bent fragments ragged edges
+        canvas = _flat_lines(canvas, cached, example_structure, target_structure, pm_s, pm_t, regions, p,
+                             use_poisson, rng)
     if getattr(target_structure, "hubs", None) and getattr(example_structure, "hubs", None):
         # beyond the paper (issue 23): a radial structure's hubs (somas, a coral's centre) drawn from the example's
         from .radial import _paste_hubs
