@@ -130,7 +130,8 @@ def line_width_scale(image: np.ndarray, structure: Structure, pm: PixelMap, line
 
 
 def redraw_flat_lines(canvas: np.ndarray, example: np.ndarray, forbidden: np.ndarray, structure: Structure,
-                      pm: PixelMap, line: np.ndarray, ground: np.ndarray, scale: float, quilt) -> np.ndarray:
+                      pm: PixelMap, line: np.ndarray, ground: np.ndarray, scale: float, quilt,
+                      known: np.ndarray | None = None) -> np.ndarray:
     """``canvas`` with its lines redrawn in the flat colour ``line`` at ``structure``'s radii (in place).
 
     Parameters
@@ -151,6 +152,9 @@ def redraw_flat_lines(canvas: np.ndarray, example: np.ndarray, forbidden: np.nda
         Width scale from :func:`line_width_scale`.
     quilt : callable(canvas, covered, example, forbidden)
         Fills the canvas's uncovered pixels in place from the example's allowed pixels.
+    known : (H, W) bool ndarray, optional
+        Canvas pixels synthesised (fragments or gap completion; default all): only these are
+        cleared and quilted (without gap completion the rest stays empty).
 
     Returns
     -------
@@ -168,7 +172,11 @@ def redraw_flat_lines(canvas: np.ndarray, example: np.ndarray, forbidden: np.nda
     cov = _coverage(structure, (H, W), scale)
     reach = pm.dist <= 3.0 * pm.radius + 4.0
     paint = reach & (_paint_share(canvas, line, ground) >= PAINT)
+    if known is not None:
+        paint &= known
     hole = ndi.binary_dilation((cov > 0) | paint, iterations=2)
+    if known is not None:
+        hole &= known
     covered = ~hole
     if hole.any() and covered.any():
         quilt(canvas, covered, example, forbidden)

@@ -142,7 +142,7 @@ def _grainy_glow(ex: np.ndarray, pm_s, p, cached: dict) -> None:
 
 
 def _flat_lines(canvas, cached: dict, example_structure, target_structure, pm_s, pm_t, regions, p,
-                use_poisson: bool, rng):
+                use_poisson: bool, rng, known):
     """``canvas`` with lines of one flat colour on a textured ground redrawn (:mod:`.flat_lines`); the
     example's measures are kept in ``cached``; other examples' ``canvas`` unchanged."""
     from .flat_lines import flat_line_colour, line_width_scale, redraw_flat_lines
@@ -160,13 +160,14 @@ def _flat_lines(canvas, cached: dict, example_structure, target_structure, pm_s,
     line, ground, scale = cached["flat_lines"]
 
     def quilt(c, covered, example, forbidden):
+        # (the ground around is kept as it is: patches fill the cleared band only)
         quilt_gaps(c, covered, example, forbidden, patch_size=max(8, p.patch_size // 2), overlap=p.patch_overlap,
-                   protect=None, tolerance=p.completion_tolerance, forbid_weight=p.forbid_weight, method=p.seams,
+                   protect=covered.copy(), tolerance=p.completion_tolerance, forbid_weight=p.forbid_weight, method=p.seams,
                    poisson=use_poisson, anchored=p.anchors, anchor_weight=p.anchor_weight,
                    screen=p.completion_screen if p.anchors else 0.0, min_free=p.min_free, rng=rng)
 
     return redraw_flat_lines(canvas, cached["ex"], regions.forbidden, target_structure, pm_t, line, ground, scale,
-                             quilt)
+                             quilt, known)
 
 
 def _two_colours(image: np.ndarray) -> bool:
@@ -542,7 +543,7 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         # on a blackboard) are redrawn in that colour at the target's radii on re-quilted ground: the
         # seams' colour correction made pale halos at junctions and tips, the bent fragments ragged edges
         canvas = _flat_lines(canvas, cached, example_structure, target_structure, pm_s, pm_t, regions, p,
-                             use_poisson, rng)
+                             use_poisson, rng, (out.frag_index >= 0) | fill)
     if getattr(target_structure, "hubs", None) and getattr(example_structure, "hubs", None):
         # beyond the paper (issue 23): a radial structure's hubs (somas, a coral's centre) drawn from the example's
         from .radial import _paste_hubs
