@@ -41,7 +41,8 @@ Modules by paper step: :mod:`.fragments` and :mod:`.fragment_choice`
 :mod:`.fragment_placement` (steps 2-3: bending and composing every
 fragment), :mod:`.gap_completion` (step 4), and :mod:`.output_regions`
 (flat-colour examples: the output's regions and drawing in style), :mod:`.glow`
-(glowing lines on a flat ground, lightning or neon: drawn with the example's glow, beyond the paper).
+(glowing lines on a flat ground, lightning or neon: drawn with the example's glow, beyond the paper),
+:mod:`.flat_lines` (lines of one flat colour on a textured ground: redrawn in that colour, beyond the paper).
 The settings are :class:`~branchnb.branching.image_params.ImageSynthesisParams`,
 the result :class:`~branchnb.branching.image_result.ImageSynthesisResult`; the
 example side of the last call is kept in :mod:`.example_cache`.
@@ -162,7 +163,8 @@ def _flat_lines(canvas, cached: dict, example_structure, target_structure, pm_s,
     def quilt(c, covered, example, forbidden):
         # (the ground around is kept as it is: patches fill the cleared band only)
         quilt_gaps(c, covered, example, forbidden, patch_size=max(8, p.patch_size // 2), overlap=p.patch_overlap,
-                   protect=covered.copy(), tolerance=p.completion_tolerance, forbid_weight=p.forbid_weight, method=p.seams,
+                   protect=covered.copy(), tolerance=p.completion_tolerance, forbid_weight=p.forbid_weight,
+                   method=p.seams,
                    poisson=use_poisson, anchored=p.anchors, anchor_weight=p.anchor_weight,
                    screen=p.completion_screen if p.anchors else 0.0, min_free=p.min_free, rng=rng)
 
