@@ -535,17 +535,18 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
             cached["centre_colours"] = colours
             cached["centre_contrast"] = 0.0 if colours is None else float(np.linalg.norm(colours[0] - colours[1]))
         canvas, _ = match_line_contrast(canvas, pm_t, cached["centre_contrast"], colours=cached["centre_colours"])
-    if cached["matte_colour"] is not None and (boundary is None or matte_edge) and not flat \
-            and target_domain is not None and target_domain.any() and not target_domain.all():
-        # beyond the paper: a photo's matte (a fundus's black surround) stays outside the domain
-        canvas = _keep_matte(canvas, target_domain, cached["matte_colour"])
     if p.flat_drawing and not flat and flat_share < 0.5 and boundary is None and cached["shading"] is None \
             and not cached.get("patchwork", 0.0) and not getattr(example_structure, "hubs", None):
         # beyond the paper (issue 23): lines of one flat colour on a textured ground (roots on soil, chalk
         # on a blackboard) are redrawn in that colour at the target's radii on re-quilted ground: the
         # seams' colour correction made pale halos at junctions and tips, the bent fragments ragged edges
+        # (before a photo's matte is put back outside its domain: lines drawn to the edge crossed it)
         canvas = _flat_lines(canvas, cached, example_structure, target_structure, pm_s, pm_t, regions, p,
                              use_poisson, rng, (out.frag_index >= 0) | fill)
+    if cached["matte_colour"] is not None and (boundary is None or matte_edge) and not flat \
+            and target_domain is not None and target_domain.any() and not target_domain.all():
+        # beyond the paper: a photo's matte (a fundus's black surround) stays outside the domain
+        canvas = _keep_matte(canvas, target_domain, cached["matte_colour"])
     if getattr(target_structure, "hubs", None) and getattr(example_structure, "hubs", None):
         # beyond the paper (issue 23): a radial structure's hubs (somas, a coral's centre) drawn from the example's
         from .radial import _paste_hubs
