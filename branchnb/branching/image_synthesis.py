@@ -41,7 +41,8 @@ Modules by paper step: :mod:`.fragments` and :mod:`.fragment_choice`
 :mod:`.fragment_placement` (steps 2-3: bending and composing every
 fragment), :mod:`.gap_completion` (step 4), and :mod:`.output_regions`
 (flat-colour examples: the output's regions and drawing in style), :mod:`.glow`
-(glowing lines on a flat ground, lightning or neon: drawn with the example's glow, beyond the paper).
+(glowing lines on a flat ground, lightning or neon: drawn with the example's glow, beyond the paper),
+:mod:`.flat_lines` (lines of one flat colour on a textured ground: redrawn in that colour, beyond the paper).
 The settings are :class:`~branchnb.branching.image_params.ImageSynthesisParams`,
 the result :class:`~branchnb.branching.image_result.ImageSynthesisResult`; the
 example side of the last call is kept in :mod:`.example_cache`.
@@ -139,6 +140,36 @@ def _grainy_glow(ex: np.ndarray, pm_s, p, cached: dict) -> None:
     if glow is None:
         return
     cached.update(calm=calm, labels_ex=labels, flat_share=share, flat_glow=glow)
+
+
+def _flat_lines(canvas, cached: dict, example_structure, target_structure, pm_s, pm_t, regions, p,
+                use_poisson: bool, rng, known):
+    """``canvas`` with lines of one flat colour on a textured ground redrawn (:mod:`.flat_lines`); the
+    example's measures are kept in ``cached``; other examples' ``canvas`` unchanged."""
+    from .flat_lines import flat_line_colour, line_width_scale, redraw_flat_lines
+
+    if "flat_lines" not in cached:
+        ex = cached["ex"]
+        found = flat_line_colour(ex, pm_s, regions.unusable)
+        if found is not None:
+            found = found + (line_width_scale(ex, example_structure, pm_s, *found),)
+        cached["flat_lines"] = found
+    if cached["flat_lines"] is None:
+        return canvas
+    from .gap_quilting import quilt_gaps
+
+    line, ground, scale = cached["flat_lines"]
+
+    def quilt(c, covered, example, forbidden):
+        # (the ground around is kept as it is: patches fill the cleared band only)
+        quilt_gaps(c, covered, example, forbidden, patch_size=max(8, p.patch_size // 2), overlap=p.patch_overlap,
+                   protect=covered.copy(), tolerance=p.completion_tolerance, forbid_weight=p.forbid_weight,
+                   method=p.seams,
+                   poisson=use_poisson, anchored=p.anchors, anchor_weight=p.anchor_weight,
+                   screen=p.completion_screen if p.anchors else 0.0, min_free=p.min_free, rng=rng)
+
+    return redraw_flat_lines(canvas, cached["ex"], regions.forbidden, target_structure, pm_t, line, ground, scale,
+                             quilt, known)
 
 
 def _two_colours(image: np.ndarray) -> bool:
@@ -504,6 +535,14 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
             cached["centre_colours"] = colours
             cached["centre_contrast"] = 0.0 if colours is None else float(np.linalg.norm(colours[0] - colours[1]))
         canvas, _ = match_line_contrast(canvas, pm_t, cached["centre_contrast"], colours=cached["centre_colours"])
+    if p.flat_drawing and not flat and flat_share < 0.5 and boundary is None and cached["shading"] is None \
+            and not cached.get("patchwork", 0.0) and not getattr(example_structure, "hubs", None):
+        # beyond the paper (issue 23): lines of one flat colour on a textured ground (roots on soil, chalk
+        # on a blackboard) are redrawn in that colour at the target's radii on re-quilted ground: the
+        # seams' colour correction made pale halos at junctions and tips, the bent fragments ragged edges
+        # (before a photo's matte is put back outside its domain: lines drawn to the edge crossed it)
+        canvas = _flat_lines(canvas, cached, example_structure, target_structure, pm_s, pm_t, regions, p,
+                             use_poisson, rng, (out.frag_index >= 0) | fill)
     if cached["matte_colour"] is not None and (boundary is None or matte_edge) and not flat \
             and target_domain is not None and target_domain.any() and not target_domain.all():
         # beyond the paper: a photo's matte (a fundus's black surround) stays outside the domain
