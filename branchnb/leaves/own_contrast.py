@@ -34,6 +34,9 @@ __all__ = ["exemplar_direction", "without_blobs", "trim_to_ridges", "trim_by_con
 GAIN = 1.3
 #: ... or when it turns at least this far from the training direction (cosine below) and scores no lower.
 SAME_COLOUR = 0.7
+#: An exemplar's own layer pixel (``exemplar_direction(..., return_pixels=True)``) stands out along the
+#: direction at least this share of the median of the band's strongest pixels (leaves81).
+STANDS_OUT = 0.3
 
 
 def _score(proj: np.ndarray, n: int) -> float:
@@ -117,7 +120,11 @@ def exemplar_direction(lab, blade, prior, width: float, training_direction, *, r
         pix = np.zeros(blade.shape, bool)
         if proj is not None and n > 0:
             keep = np.zeros(len(proj), bool)
-            keep[np.argpartition(proj, len(proj) - n)[len(proj) - n:]] = True
+            top = np.argpartition(proj, len(proj) - n)[len(proj) - n:]
+            # Where the exemplar's own layer covers less than the warped one, the count is made up
+            # with blade texture and marks (see Notes): only the pixels that stand out clearly.
+            top = top[proj[top] >= STANDS_OUT * float(np.median(proj[top]))]
+            keep[top] = True
             pix[band] = keep
         return d, took, pix
     td = td / max(float(np.linalg.norm(td)), 1e-9)
