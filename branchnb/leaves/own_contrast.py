@@ -96,7 +96,7 @@ def exemplar_direction(lab, blade, prior, width: float, training_direction, *, r
     (:func:`~branchnb.leaves.analysis_own._under_induced`) they took blade along every vein. Vein IoU of
     the worst exemplars, birch-like families with marks (``tests/leaves_marks.py``): hole rims 500 px
     0.55 / 0.22 -> 0.94 / 0.90, rust spots 160 px 0.83 / 0.73 -> 0.94 / 0.97, blotches 450 px 0.58 ->
-    0.87; hole rims 300 px 0.73 / 0.77 -> 0.71 / 0.71 (the one loss measured); the sample maples'
+    0.87; hole rims 300 px 0.73 / 0.77 -> 0.71 / 0.71 and 320 px 0.71 -> 0.69 (the losses measured); the sample maples'
     masks unchanged. The rule needs the veins to be at least half of the ``n``: a vein far narrower
     than the warped layer still gets blade texture (a noise floor on the band's projections fixed
     that, but moved the sample maples' retuned masks: not taken).
