@@ -56,12 +56,14 @@ class _StickerBorder:
     """A die-cut border: its colour, its width (Euclidean pixels) and the image without it.
 
     ``inner`` is the image with alpha 0 on the border ring, so its rim is what lies
-    inside the border (the outline, when the sticker has one).
+    inside the border (the outline, when the sticker has one). ``mean_width``: the ring's area
+    over the rim's length (``width`` is the deepest ring still half in the border colour).
     """
 
     colour: np.ndarray
     width: float
     inner: np.ndarray = field(repr=False)
+    mean_width: float | None = field(default=None, repr=False)
 
 
 def _edt(alpha: np.ndarray) -> np.ndarray:
@@ -95,7 +97,7 @@ def _sticker_border(image) -> _StickerBorder | None:
     share = float(near[rim].mean())
     if share < BORDER_SHARE:
         return None
-    dmax = max(2, int(BORDER_MAX * max(alpha.shape)))
+    dmax = max(12, int(BORDER_MAX * max(alpha.shape)))
     width = 1
     for d in range(2, dmax + 2):
         ring = alpha & (depth >= d - 0.5) & (depth < d + 0.5)
@@ -116,6 +118,10 @@ def _sticker_border(image) -> _StickerBorder | None:
     lab, _ = ndi.label(alpha & near & (depth <= 2 * width + 2), structure=np.ones((3, 3), bool))
     ids = np.unique(lab[rim & near])
     ring = np.isin(lab, ids[ids > 0])
+    # The ring's mean width (area / rim length): the deepest ring half in the border colour lies
+    # in a square pen's corners and the blur, 1.3x a 3-8 px outline's width on straight runs
+    # (trees52). Used for a border with no outline inside it (the ring is the outline).
+    mean_width = float(np.clip(ring.sum() / max(int(rim.sum()), 1), 1.0, width))
     # ... and the anti-aliased pixels between the border and what it wraps (more than a third
     # border colour), so the stripped rim is the outline's own, not a grey blend of the two.
     beyond = alpha & ~ring & (depth <= 2 * width + 4)
@@ -127,7 +133,7 @@ def _sticker_border(image) -> _StickerBorder | None:
             ring |= grow & (dist < 0.7 * far)
     inner = np.array(img, np.float32, copy=True)
     inner[..., 3] = np.where(ring | ~alpha, 0.0, 1.0)
-    return _StickerBorder(np.asarray(colour, np.float32), float(width), inner)
+    return _StickerBorder(np.asarray(colour, np.float32), float(width), inner, mean_width)
 
 
 def _exemplar_border(exemplar) -> _StickerBorder | None:
@@ -207,6 +213,32 @@ def _thin_ink(image: np.ndarray, border: _StickerBorder) -> np.ndarray | None:
     return np.median(img[..., :3][dark & (lum <= np.quantile(lum[dark], 0.25))], axis=0).astype(np.float32)
 
 
+def _drop_warped_border(mid: np.ndarray, inner: np.ndarray, colour: np.ndarray, width: float) -> np.ndarray:
+    """Repaint with the fill nearest them the border-coloured pixels inside the rebuilt ring that
+    are joined to it (within ``3 width + 2`` px of the rim).
+
+    Notes
+    -----
+    Beyond trees41 (issue 24, trees52): a sticker whose border is its only outline (a thick white
+    ring round the fill) kept the warped border wherever the cage had stretched it, so the mixed
+    ring ran 2-3 times the sources' width on one side. Only pieces touching the ring go: a light
+    detail of the fill away from the rim stays.
+    """
+    di = _edt(inner)
+    rgb = mid[..., :3]
+    layer = inner & (np.linalg.norm(rgb - colour, axis=2) <= 0.35)
+    lab, n = ndi.label(layer & (di <= 3.0 * width + 2.0), structure=np.ones((3, 3), bool))
+    fill = inner & ~ndi.binary_dilation(layer, structure=np.ones((3, 3), bool), iterations=2)
+    if not n or not fill.any():
+        return mid
+    touch = np.unique(lab[(lab > 0) & (di < 1.5)])
+    leak = np.isin(lab, touch[touch > 0])
+    _, (iy, ix) = ndi.distance_transform_edt(~fill, return_indices=True)
+    out = mid.copy()
+    out[leak, :3] = rgb[iy[leak], ix[leak]]
+    return out
+
+
 def _sticker_mix(image: np.ndarray, exemplars: Sequence, cw: np.ndarray, weights: np.ndarray,
                  sources: np.ndarray | None = None) -> np.ndarray | None:
     """Rebuild a mix of sticker trees ring by ring (None when they are not stickers).
@@ -249,6 +281,14 @@ def _sticker_mix(image: np.ndarray, exemplars: Sequence, cw: np.ndarray, weights
     outl = [SimpleNamespace(outlined=True, ink=t, width=1) if t is not None else o
             for o, t in zip(outl, thin, strict=True)]
     ons = [o.outlined for o in outl]
+    if not any(ons):
+        # The border is the sticker's only outline: drawn at the sources' mean width, not at the
+        # depth their pens' corners reach (trees52).
+        width = float(np.average([b.mean_width or b.width if b is not None else 0.0 for b in borders],
+                                 weights=w))
+        inner = opaque & (depth > width + 0.5)
+        if inner.sum() < 16:
+            return None
     mid = out.copy()
     mid[..., 3] = np.where(inner, 1.0, 0.0)
     if any(ons):
@@ -297,6 +337,8 @@ def _sticker_mix(image: np.ndarray, exemplars: Sequence, cw: np.ndarray, weights
         mid[ring_px, :3] = (q * ink.ink + (1.0 - q) * mid[..., :3])[ring_px]
         # Pieces of the warped outline deeper than that (at the crown's notches) are specks.
         mid = _drop_rim_flecks(mid, ink.ink, ink_w)
+    else:
+        mid = _drop_warped_border(mid, inner, colour, width)
     res = out
     res[inner, :3] = mid[inner, :3]
     # The border ring, soft rim pixels included, in the border colour.
