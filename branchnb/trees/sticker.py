@@ -343,5 +343,17 @@ def _sticker_mix(image: np.ndarray, exemplars: Sequence, cw: np.ndarray, weights
     res[inner, :3] = mid[inner, :3]
     # The border ring, soft rim pixels included, in the border colour.
     ring = (img[..., 3] > 0) & ~inner
+    if not any(ons):
+        # A part the warp made thinner than two rings (a trunk) would be all border: its own
+        # colours stay where it is no deeper than ``width + 1`` px anywhere nearby (trees52).
+        k = 2 * int(np.ceil(width)) + 1
+        thin_part = ndi.grey_dilation(depth, size=(k, k)) < width + 1.0
+        own = thin_part & opaque & (depth >= 0.5 * width) & (np.linalg.norm(img[..., :3] - colour, axis=2) > 0.35)
+        # ... a whole run of it: a few pixels left of a trunk the warp painted over are specks
+        lab, n = ndi.label(own, structure=np.ones((3, 3), bool))
+        if n:
+            sizes = ndi.sum(own, lab, index=np.arange(1, n + 1))
+            own = np.isin(lab, 1 + np.flatnonzero(sizes >= 2.0 * width * width))
+        ring &= ~own
     res[ring, :3] = colour
     return res
