@@ -18,6 +18,11 @@ taken as part of the stroke, the outline is re-inked along the shrunk
 silhouette as for any outlined mix (:func:`~branchnb.trees.flat_art._ink_outline`),
 and the border ring is painted back outside it in the border colour.
 
+A sticker whose border is its only outline (a thick white ring straight round the fill) is
+rebuilt the same way without the outline step: the ring at the sources' mean width (area over
+rim length), the warped ring left inside it repainted with the fill, and a part thinner than two
+rings (a trunk) kept in its own colours (beyond the paper, trees52).
+
 Examples
 --------
 >>> import numpy as np
@@ -47,8 +52,11 @@ _LUM = np.array([0.299, 0.587, 0.114], np.float32)
 BORDER_TOL = 0.15
 #: Share of the rim pixels in the border colour for the rim to be a border.
 BORDER_SHARE = 0.8
-#: Thickest border considered, as a share of the image's larger side (a wider "border" is a fill).
+#: Thickest border considered, as a share of the image's larger side (a wider "border" is a fill),
+#: but never below BORDER_MIN_PX: a 3-8 px ring on a 96-256 px sticker is 3-8 % of its side, and
+#: its square pen's corners reach 1.3x deeper (trees52).
 BORDER_MAX = 0.04
+BORDER_MIN_PX = 12
 
 
 @dataclass(frozen=True)
@@ -79,7 +87,8 @@ def _sticker_border(image) -> _StickerBorder | None:
     The rim (opaque pixels next to a transparent one) is a border when at least
     :data:`BORDER_SHARE` of it is one colour, that colour reaches in to a steady depth
     (the deepest 1 px ring still half as much in it, at most :data:`BORDER_MAX` of the
-    image side), the pixels 2-3 px deeper are mostly something else (a flat tree whose
+    image side or :data:`BORDER_MIN_PX`), the pixels 2-3 px deeper are mostly something else
+    (a flat tree whose
     fill reaches the rim has no border: its colour runs on deep inside) and the border is
     lighter than they are (a plain outlined tree's dark rim is its outline).
     """
@@ -97,7 +106,7 @@ def _sticker_border(image) -> _StickerBorder | None:
     share = float(near[rim].mean())
     if share < BORDER_SHARE:
         return None
-    dmax = max(12, int(BORDER_MAX * max(alpha.shape)))
+    dmax = max(BORDER_MIN_PX, int(BORDER_MAX * max(alpha.shape)))
     width = 1
     for d in range(2, dmax + 2):
         ring = alpha & (depth >= d - 0.5) & (depth < d + 0.5)
