@@ -236,6 +236,16 @@ def _drop_warped_border(mid: np.ndarray, inner: np.ndarray, colour: np.ndarray, 
     di = _edt(inner)
     rgb = mid[..., :3]
     layer = inner & (np.linalg.norm(rgb - colour, axis=2) <= 0.35)
+    # ... and its anti-aliased edge: blends of the border colour with the fill next to it, left
+    # as light seams along the rebuilt ring.
+    core = inner & ~ndi.binary_dilation(layer, structure=np.ones((3, 3), bool), iterations=2)
+    if core.any():
+        _, (iy, ix) = ndi.distance_transform_edt(~core, return_indices=True)
+        near = rgb[iy, ix]
+        d = colour - near
+        t = np.clip(((rgb - near) * d).sum(axis=2) / np.maximum((d * d).sum(axis=2), 1e-6), 0.0, 1.0)
+        off = np.linalg.norm(rgb - (near + t[..., None] * d), axis=2)
+        layer |= inner & (t >= 0.2) & (off <= 0.08) & ndi.binary_dilation(layer, structure=np.ones((3, 3), bool))
     lab, n = ndi.label(layer & (di <= 3.0 * width + 2.0), structure=np.ones((3, 3), bool))
     fill = inner & ~ndi.binary_dilation(layer, structure=np.ones((3, 3), bool), iterations=2)
     if not n or not fill.any():
