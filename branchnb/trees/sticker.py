@@ -18,6 +18,11 @@ taken as part of the stroke, the outline is re-inked along the shrunk
 silhouette as for any outlined mix (:func:`~branchnb.trees.flat_art._ink_outline`),
 and the border ring is painted back outside it in the border colour.
 
+A sticker whose border is its only outline (a thick white ring straight round the fill) is
+rebuilt the same way without the outline step: the ring at the sources' mean width (area over
+rim length), the warped ring left inside it repainted with the fill, and a part thinner than two
+rings (a trunk) kept in its own colours (beyond the paper, trees52).
+
 Examples
 --------
 >>> import numpy as np
@@ -47,8 +52,11 @@ _LUM = np.array([0.299, 0.587, 0.114], np.float32)
 BORDER_TOL = 0.15
 #: Share of the rim pixels in the border colour for the rim to be a border.
 BORDER_SHARE = 0.8
-#: Thickest border considered, as a share of the image's larger side (a wider "border" is a fill).
+#: Thickest border considered, as a share of the image's larger side (a wider "border" is a fill),
+#: but never below BORDER_MIN_PX: a 3-8 px ring on a 96-256 px sticker is 3-8 % of its side, and
+#: its square pen's corners reach 1.3x deeper (trees52).
 BORDER_MAX = 0.04
+BORDER_MIN_PX = 12
 
 
 @dataclass(frozen=True)
@@ -56,12 +64,14 @@ class _StickerBorder:
     """A die-cut border: its colour, its width (Euclidean pixels) and the image without it.
 
     ``inner`` is the image with alpha 0 on the border ring, so its rim is what lies
-    inside the border (the outline, when the sticker has one).
+    inside the border (the outline, when the sticker has one). ``mean_width``: the ring's area
+    over the rim's length (``width`` is the deepest ring still half in the border colour).
     """
 
     colour: np.ndarray
     width: float
     inner: np.ndarray = field(repr=False)
+    mean_width: float | None = field(default=None, repr=False)
 
 
 def _edt(alpha: np.ndarray) -> np.ndarray:
@@ -77,7 +87,8 @@ def _sticker_border(image) -> _StickerBorder | None:
     The rim (opaque pixels next to a transparent one) is a border when at least
     :data:`BORDER_SHARE` of it is one colour, that colour reaches in to a steady depth
     (the deepest 1 px ring still half as much in it, at most :data:`BORDER_MAX` of the
-    image side), the pixels 2-3 px deeper are mostly something else (a flat tree whose
+    image side or :data:`BORDER_MIN_PX`), the pixels 2-3 px deeper are mostly something else
+    (a flat tree whose
     fill reaches the rim has no border: its colour runs on deep inside) and the border is
     lighter than they are (a plain outlined tree's dark rim is its outline).
     """
@@ -95,7 +106,7 @@ def _sticker_border(image) -> _StickerBorder | None:
     share = float(near[rim].mean())
     if share < BORDER_SHARE:
         return None
-    dmax = max(2, int(BORDER_MAX * max(alpha.shape)))
+    dmax = max(BORDER_MIN_PX, int(BORDER_MAX * max(alpha.shape)))
     width = 1
     for d in range(2, dmax + 2):
         ring = alpha & (depth >= d - 0.5) & (depth < d + 0.5)
@@ -116,6 +127,10 @@ def _sticker_border(image) -> _StickerBorder | None:
     lab, _ = ndi.label(alpha & near & (depth <= 2 * width + 2), structure=np.ones((3, 3), bool))
     ids = np.unique(lab[rim & near])
     ring = np.isin(lab, ids[ids > 0])
+    # The ring's mean width (area / rim length): the deepest ring half in the border colour lies
+    # in a square pen's corners and the blur, 1.3x a 3-8 px outline's width on straight runs
+    # (trees52). Used for a border with no outline inside it (the ring is the outline).
+    mean_width = float(np.clip(ring.sum() / max(int(rim.sum()), 1), 1.0, width))
     # ... and the anti-aliased pixels between the border and what it wraps (more than a third
     # border colour), so the stripped rim is the outline's own, not a grey blend of the two.
     beyond = alpha & ~ring & (depth <= 2 * width + 4)
@@ -127,7 +142,7 @@ def _sticker_border(image) -> _StickerBorder | None:
             ring |= grow & (dist < 0.7 * far)
     inner = np.array(img, np.float32, copy=True)
     inner[..., 3] = np.where(ring | ~alpha, 0.0, 1.0)
-    return _StickerBorder(np.asarray(colour, np.float32), float(width), inner)
+    return _StickerBorder(np.asarray(colour, np.float32), float(width), inner, mean_width)
 
 
 def _exemplar_border(exemplar) -> _StickerBorder | None:
@@ -207,6 +222,42 @@ def _thin_ink(image: np.ndarray, border: _StickerBorder) -> np.ndarray | None:
     return np.median(img[..., :3][dark & (lum <= np.quantile(lum[dark], 0.25))], axis=0).astype(np.float32)
 
 
+def _drop_warped_border(mid: np.ndarray, inner: np.ndarray, colour: np.ndarray, width: float) -> np.ndarray:
+    """Repaint with the fill nearest them the border-coloured pixels inside the rebuilt ring that
+    are joined to it (within ``3 width + 2`` px of the rim).
+
+    Notes
+    -----
+    Beyond trees41 (issue 24, trees52): a sticker whose border is its only outline (a thick white
+    ring round the fill) kept the warped border wherever the cage had stretched it, so the mixed
+    ring ran 2-3 times the sources' width on one side. Only pieces touching the ring go: a light
+    detail of the fill away from the rim stays.
+    """
+    di = _edt(inner)
+    rgb = mid[..., :3]
+    layer = inner & (np.linalg.norm(rgb - colour, axis=2) <= 0.35)
+    # ... and its anti-aliased edge: blends of the border colour with the fill next to it, left
+    # as light seams along the rebuilt ring.
+    core = inner & ~ndi.binary_dilation(layer, structure=np.ones((3, 3), bool), iterations=2)
+    if core.any():
+        _, (iy, ix) = ndi.distance_transform_edt(~core, return_indices=True)
+        near = rgb[iy, ix]
+        d = colour - near
+        t = np.clip(((rgb - near) * d).sum(axis=2) / np.maximum((d * d).sum(axis=2), 1e-6), 0.0, 1.0)
+        off = np.linalg.norm(rgb - (near + t[..., None] * d), axis=2)
+        layer |= inner & (t >= 0.2) & (off <= 0.08) & ndi.binary_dilation(layer, structure=np.ones((3, 3), bool))
+    lab, n = ndi.label(layer & (di <= 3.0 * width + 2.0), structure=np.ones((3, 3), bool))
+    fill = inner & ~ndi.binary_dilation(layer, structure=np.ones((3, 3), bool), iterations=2)
+    if not n or not fill.any():
+        return mid
+    touch = np.unique(lab[(lab > 0) & (di < 1.5)])
+    leak = np.isin(lab, touch[touch > 0])
+    _, (iy, ix) = ndi.distance_transform_edt(~fill, return_indices=True)
+    out = mid.copy()
+    out[leak, :3] = rgb[iy[leak], ix[leak]]
+    return out
+
+
 def _sticker_mix(image: np.ndarray, exemplars: Sequence, cw: np.ndarray, weights: np.ndarray,
                  sources: np.ndarray | None = None) -> np.ndarray | None:
     """Rebuild a mix of sticker trees ring by ring (None when they are not stickers).
@@ -249,6 +300,14 @@ def _sticker_mix(image: np.ndarray, exemplars: Sequence, cw: np.ndarray, weights
     outl = [SimpleNamespace(outlined=True, ink=t, width=1) if t is not None else o
             for o, t in zip(outl, thin, strict=True)]
     ons = [o.outlined for o in outl]
+    if not any(ons):
+        # The border is the sticker's only outline: drawn at the sources' mean width, not at the
+        # depth their pens' corners reach (trees52).
+        width = float(np.average([b.mean_width or b.width if b is not None else 0.0 for b in borders],
+                                 weights=w))
+        inner = opaque & (depth > width + 0.5)
+        if inner.sum() < 16:
+            return None
     mid = out.copy()
     mid[..., 3] = np.where(inner, 1.0, 0.0)
     if any(ons):
@@ -297,9 +356,23 @@ def _sticker_mix(image: np.ndarray, exemplars: Sequence, cw: np.ndarray, weights
         mid[ring_px, :3] = (q * ink.ink + (1.0 - q) * mid[..., :3])[ring_px]
         # Pieces of the warped outline deeper than that (at the crown's notches) are specks.
         mid = _drop_rim_flecks(mid, ink.ink, ink_w)
+    else:
+        mid = _drop_warped_border(mid, inner, colour, width)
     res = out
     res[inner, :3] = mid[inner, :3]
     # The border ring, soft rim pixels included, in the border colour.
     ring = (img[..., 3] > 0) & ~inner
+    if not any(ons):
+        # A part the warp made thinner than two rings (a trunk) would be all border: its own
+        # colours stay where it is no deeper than ``width + 1`` px anywhere nearby (trees52).
+        k = 2 * int(np.ceil(width)) + 1
+        thin_part = ndi.grey_dilation(depth, size=(k, k)) < width + 1.0
+        own = thin_part & opaque & (depth >= 0.5 * width) & (np.linalg.norm(img[..., :3] - colour, axis=2) > 0.35)
+        # ... a whole run of it: a few pixels left of a trunk the warp painted over are specks
+        lab, n = ndi.label(own, structure=np.ones((3, 3), bool))
+        if n:
+            sizes = ndi.sum(own, lab, index=np.arange(1, n + 1))
+            own = np.isin(lab, 1 + np.flatnonzero(sizes >= 2.0 * width * width))
+        ring &= ~own
     res[ring, :3] = colour
     return res
