@@ -101,8 +101,15 @@ def example_meander(example, window: float) -> tuple[float, float] | None:
     >>> example_meander(s, 16.0) is None
     True
     """
-    h, w = example.image_shape[:2]
-    min_len = MEANDER_MIN_LENGTH * max(h, w)
+    if example.image_shape is not None:
+        side = float(max(example.image_shape[:2]))
+    else:   # no frame given: the extent of its points
+        pts = [np.asarray(b.points, np.float64) for b in example.branches if len(b.points)]
+        if not pts:
+            return None
+        allp = np.vstack(pts)
+        side = float((allp.max(0) - allp.min(0)).max())
+    min_len = MEANDER_MIN_LENGTH * side
     total = chords = 0.0
     rows = []
     for b in example.branches:
