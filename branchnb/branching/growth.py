@@ -199,7 +199,8 @@ class _Grower(_FrameRules, _Selection, _Generations, _Starts, _Filling):
             and not region.all() and self.drain is None else 0.0
         self.shore = _Shore(region, margin, inland=runs_inland(model)) if margin > 0 else None
         # a meandering example's swings, longer than the Markov window, held by a sine (.meander_hold)
-        self.meander = _example_meander(model, params.m * params.h) if guidance is None and self.drain is None else None
+        self.meander = _example_meander(model, params.m * params.h) if guidance is None and self.drain is None \
+            else None
         self.scorer = scorer
         self.matcher = model.matcher(params.wG)
         # beyond the paper: the sizes of the turns follow the example's too (see .straightness)
@@ -402,7 +403,8 @@ class _Grower(_FrameRules, _Selection, _Generations, _Starts, _Filling):
                 s_now = (len(st.points) - 1) * p.h
                 if st.meander is None:   # from the heading it starts with, a crossing of the sine
                     om, lam = self.meander
-                    st.meander = (st.theta, om, lam, -2.0 * np.pi * s_now / lam + np.pi * int(self.rng.integers(2)))
+                    side = np.pi * int(self.rng.integers(2))
+                    st.meander = (st.theta, om, lam, -2.0 * np.pi * s_now / lam + side)
                 score = score * meander_factor(st.meander, st.theta, s_now, p.h, bm.cont_angles[t_arr], n_arr)
             if st.goal is not None:
                 score = score * self._goal_factor(st, tip, pts, n_arr)

@@ -6,6 +6,17 @@ wavelengths of 45-130 px) came out 0.71-1.20 x as sinuous per branch (``_meander
 example meanders (:func:`example_meander`), every branch is held to a sine-generated heading of the
 example's wavelength and amplitude (:func:`meander_factor`), as a delta's trunk is held to its sine
 (:mod:`.drain_meander`). Examples that do not meander (straight, jagged, vessels) are not touched.
+
+Notes
+-----
+Beyond the paper. The wavelength is read off the example's inflections; the swing is the larger of the
+swing read off its headings and the swing whose sine-generated curve has the example's path-over-chord
+sinuosity (the headings' one fell short: output 0.70-0.81 x the example per branch). Each branch starts
+at a crossing of its sine, about the heading it starts with (its side drawn from ``rng``).
+``_meander_check 160,256,512 0,1,2 1,2,3`` (before -> after): per branch within 15 % on 12 -> 18 of 27
+cases, over quarter-size windows 19 -> 27 of 27 (0.90-1.11). Retina, lightning, Czech map, cracked mud,
+river, line-art (256-1000 px), random-walk cracks and rivers, vessel photos and deltas (a drain has its
+own trunk meander) are not read as meanders: byte-identical output.
 """
 
 from __future__ import annotations
