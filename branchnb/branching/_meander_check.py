@@ -12,7 +12,14 @@ Measured (branching103, omega 70 degrees, mask seeds 1-3, seeds 0-2): per branch
 256 px and 0.79-1.05 at 512 px. The output wiggles at the Markov window's scale but loses the example's
 long swings (a window of ``m h`` = 16 px against a half wavelength of 45-130 px): within 15 % on 19 of
 27 cases only. Neither the winding limit, the bend-size histogram (``wG`` 0: 0.80-0.84) nor a longer
-window (``m`` 8: 0.82-0.85 on the worst case) closes the gap; still open.
+window (``m`` 8: 0.82-0.85 on the worst case) closes the gap.
+
+branching105 (the meander hold, :mod:`.meander_hold`; same command, main at 474c5a1 before): per branch
+0.62-1.10 -> 0.74-1.10, within 15 % on 12 -> 17 of 27 cases; windowed 0.78-1.02 -> 0.90-1.12, within 15 % on
+19 -> 27 of 27 (1000 px, masks 1-2, seeds 0-1: per branch 2 -> 4 of 4, windowed 4 -> 2 of 4, see
+:mod:`.meander_hold`). The 9 per-branch misses are the examples whose per-branch sinuosity (1.61-1.87) is far above
+their windowed one (1.31-1.40): extracted trunk pieces that drift or leave and re-enter the frame (a 512 px
+root of 491 px over a 145 px chord: 3.39), which a held sine of the example's swing does not copy.
 """
 
 from __future__ import annotations

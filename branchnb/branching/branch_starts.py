@@ -161,6 +161,9 @@ class _BranchState:
     #: a root the bearing stop ended (:func:`.frame_band.bearing_keep`): its tree's children crowd on
     #: less length, and those whose first Markov step was refused are dropped (``_Filling._drop_heads``)
     bearing_cut: bool = False
+    #: an example that meanders (:mod:`.meander_hold`): the sine ``(base, omega, wavelength, phase)`` the
+    #: branch's heading is held to, set at its first Markov step; None = not yet, or no meander
+    meander: tuple | None = None
 
 
 class _Starts:

@@ -71,6 +71,7 @@ from .growth_bounds import (
 from .growth_frame import _FrameRules
 from .growth_selection import _Selection
 from .guidance import Guidance
+from .meander_hold import example_meander, meander_factor
 from .model import StructureModel
 from .params import SynthesisParams
 from .scoring import _continue_radii, score_candidates
@@ -169,6 +170,16 @@ def _example_bounds(model: StructureModel) -> tuple[float, float, float]:
     return cached[1]
 
 
+def _example_meander(model: StructureModel, window: float) -> tuple[float, float] | None:
+    """:func:`.meander_hold.example_meander` of the model's example, computed once per model."""
+    key = (id(model.example), len(model.example.branches), window)
+    cached = model.__dict__.get("_example_meander")
+    if cached is None or cached[0] != key:
+        cached = (key, example_meander(model.example, window))
+        model.__dict__["_example_meander"] = cached
+    return cached[1]
+
+
 class _Grower(_FrameRules, _Selection, _Generations, _Starts, _Filling):
     def __init__(self, model: StructureModel, params: SynthesisParams, rng, shape,
                  guidance: Guidance | None, scorer=None, domain: np.ndarray | None = None,
@@ -187,6 +198,9 @@ class _Grower(_FrameRules, _Selection, _Generations, _Starts, _Filling):
         margin = _shore_margin(model) if guidance is None and region is not None \
             and not region.all() and self.drain is None else 0.0
         self.shore = _Shore(region, margin, inland=runs_inland(model)) if margin > 0 else None
+        # a meandering example's swings, longer than the Markov window, held by a sine (.meander_hold)
+        self.meander = _example_meander(model, params.m * params.h) if guidance is None and self.drain is None \
+            else None
         self.scorer = scorer
         self.matcher = model.matcher(params.wG)
         # beyond the paper: the sizes of the turns follow the example's too (see .straightness)
@@ -385,6 +399,13 @@ class _Grower(_FrameRules, _Selection, _Generations, _Starts, _Filling):
                 score = score * self.drain.factor(
                     tip, pts, n_arr, start=st.points[0], fan=st.fan,
                     hold_from=None if st.fan is None else self.drain.hold_from(st.points, p.h))
+            if self.meander is not None and len(t_arr):
+                s_now = (len(st.points) - 1) * p.h
+                if st.meander is None:   # from the heading it starts with, a crossing of the sine
+                    om, lam = self.meander
+                    side = np.pi * int(self.rng.integers(2))
+                    st.meander = (st.theta, om, lam, -2.0 * np.pi * s_now / lam + side)
+                score = score * meander_factor(st.meander, st.theta, s_now, p.h, bm.cont_angles[t_arr], n_arr)
             if st.goal is not None:
                 score = score * self._goal_factor(st, tip, pts, n_arr)
             # the bend-size factor (see .straightness), the straight-run factor (below) and the winding

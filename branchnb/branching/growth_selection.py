@@ -72,10 +72,12 @@ class _Selection:
 
     def _plain(self, st) -> bool:
         """Is branch ``st``'s next step a plain one (:func:`._loop_kernels.plain_step`): the default
-        scorer, no guidance, drain, shore, frame factor (a root on a free frame), goal or mouth?"""
+        scorer, no guidance, drain, shore, frame factor (a root on a free frame), goal, mouth
+        or meander hold?"""
         return (self.scorer is score_candidates and self.guidance is None and self.drain is None
                 and self.shore is None and st.goal is None and st.mouth is None
-                and not (self.frame and st.parent is None) and not self.keep_in and self.tropism is None)
+                and not (self.frame and st.parent is None) and not self.keep_in and self.tropism is None
+                and self.meander is None)
 
     def _plain_step(self, st, tip, t: np.ndarray, L: int):
         """``(stopped, score, points, chosen)`` of a plain step over the candidate windows ``t``
