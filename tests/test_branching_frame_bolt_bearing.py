@@ -4,7 +4,7 @@ along the entry side or back towards it."""
 import numpy as np
 
 from branchnb.branching._frame_hug_check import case
-from branchnb.branching.frame_band import BEARING_MARGIN, ENTRY_TURN_CAP, entry_turn_limit
+from branchnb.branching.frame_band import BEARING_MARGIN, ENTRY_CAP_ROOTS, ENTRY_TURN_CAP, entry_turn_limit
 from branchnb.core.structure import Branch, Structure
 
 
@@ -18,6 +18,21 @@ def test_turn_limit_is_capped():
     assert entry_turn_limit(ex) == ENTRY_TURN_CAP              # main: 120 (100 + the margin)
     gentle = Structure([Branch(down, 2.0)], image_shape=(400, 400))
     assert entry_turn_limit(gentle) < BEARING_MARGIN + 1.0    # straight: the margin alone
+
+
+def test_roots_that_all_run_sideways_keep_their_turn():
+    # several entering roots turning 100 deg each (cracks running along their side, like cracked mud's
+    # three of five): the turn is the example's own, not one root's jag, and the cap would starve corners
+    t = np.arange(0.0, 151.0, 3.0)
+    a = np.radians(90.0 - 100.0)
+    roots = []
+    for x in (60.0, 200.0, 340.0)[:ENTRY_CAP_ROOTS + 1]:
+        down = np.stack([np.full_like(t, x), t], 1)
+        roots.append(Branch(np.vstack([down, down[-1] + np.stack([np.cos(a) * t[1:], np.sin(a) * t[1:]], 1)]), 2.0))
+    many = Structure(roots, image_shape=(400, 400))
+    assert entry_turn_limit(many) > ENTRY_TURN_CAP + 30.0   # ~100 + the margin
+    one_jag = Structure(roots[:1] + [Branch(np.stack([np.full_like(t, 300.0), t], 1), 2.0)], image_shape=(400, 400))
+    assert entry_turn_limit(one_jag) == ENTRY_TURN_CAP
 
 
 def test_frame_hug_bolt_keeps_its_bearing():
