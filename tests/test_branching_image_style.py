@@ -113,9 +113,7 @@ def test_small_drawn_maps_keep_their_coast(size, seed):
     iy = np.clip(np.rint(pts[:, 1]).astype(int), 0, size - 1)
     ix = np.clip(np.rint(pts[:, 0]).astype(int), 0, size - 1)
     near_coast = ndi.binary_dilation(coast, iterations=2)
-    # rivers found, the coast is no river (96/3: 0.24 until branching106; since extraction keeps corners
-    # its two rivers that run out along the coast hug it instead of cutting its corners: 0.27, same branches)
-    assert np.mean(near_coast[iy, ix]) <= 0.28
+    assert np.mean(near_coast[iy, ix]) <= 0.25            # rivers found, the coast is no river
     dom = example_domain(img, ex)
     res = synthesize_structure(fit_model(ex, domain=dom), rng=0)
     out = synthesize_image(img, ex, res, rng=0)

@@ -280,16 +280,12 @@ class _Filling:
                 kids[st.parent] += 1
         # a tree whose root the bearing stop cut short (.frame_band.bearing_keep) furcates on less length:
         # children crowd, and heads whose first Markov step the density refused stay bare stubs
-        # (test_branching_unborn's crack, seed 0: 3 such heads on a root cut at 70 of 160 vertices).
-        # A head cut by the domain while it was copied (branch_starts: "left the domain", no Markov
-        # step) is as bare a stub: a parent running near the frame grew a comb of 8-16 px spurs into it
-        # (the same crack with corner-keeping extraction: 7 frame stubs in seeds 0-11, 0 with this)
+        # (test_branching_unborn's crack, seed 0: 3 such heads on a root cut at 70 of 160 vertices)
         cut = np.zeros(len(self.branches), bool)
         for i, st in enumerate(self.branches):   # a parent comes before its children
             cut[i] = st.bearing_cut if st.parent is None else cut[st.parent]
         keep = np.array([not (not st.src and kids[i] == 0 and st.parent is not None
-                              and (st.unborn or (cut[i] and st.stop in _STILLBORN)
-                                   or st.stop == "left the domain"))
+                              and (st.unborn or (cut[i] and st.stop in _STILLBORN)))
                          for i, st in enumerate(self.branches)])
         for i in np.flatnonzero(~keep):   # the histograms counted them when they were started
             self._uncount(self.branches[i])

@@ -18,16 +18,20 @@ from scipy import ndimage as ndi
 #: count as staircase: pixel centres lie within half a pixel of a digital straight line, the skeleton of a
 #: line of varying width wobbles a little more.
 NOISE_PX = 0.6
-#: Whether :func:`~.skeleton_tree.skeleton_to_structure` smooths with :func:`keep_corners_smooth` (True,
-#: the default since branching106) or with the one wide Gaussian of the paper-era extraction (False).
-#: Turning it on moved four downstream figures measured on rounded paths (branching106): the crack of
-#: tests/test_branching_unborn.py grew bare heads into the frame (a real regression, mended in
-#: ``filling._Filling._drop_heads``: seeds 0-11, 7 frame stubs -> 0); a 96 px map's extracted rivers
-#: hug the coast they already followed instead of cutting its corners (share near the coast 0.24 ->
-#: 0.27, same 5 branches); the sub-pixel bolt's unrelit glow widened towards the example's (1.90 ->
-#: 2.05 px of 2.24, rngs 0-3) while the relit one stayed (1.76 -> 1.75), so their ratio fell 0.93 ->
-#: 0.82 at rng 0. A 256 px zig-zag keeps 31-33 deg of its 33-34 deg turn per 5 px (15-17 off).
-KEEP_CORNERS = True
+#: Whether :func:`~.skeleton_tree.skeleton_to_structure` smooths with :func:`keep_corners_smooth` (True)
+#: or with the one wide Gaussian of the paper-era extraction (False, the default for now). Off by
+#: default because on it moves downstream synthesis figures measured on rounded paths (branching106,
+#: per test with it on): tests/test_branching_unborn.py's crack grows bare heads out of the frame
+#: (seeds 0-11: 7 frame stubs + 2 inside vs 1; a real regression: dropping heads that left the domain
+#: before any Markov step mends it but breaks test_branching_thin_children's partial crack, 0.64 < 0.7);
+#: a 96 px map's rivers hug the coast they already followed (coast share 0.24 -> 0.27, same branches,
+#: figure-only); the sub-pixel bolt's relit/unrelit glow ratio 0.93 -> 0.82 (relit glow kept, 1.76 ->
+#: 1.75 px, unrelit reference widened towards the example's 2.24 px: 1.90 -> 2.05, figure-only); and
+#: two not known before: test_branching_frame_bolt_bearing (bearing dev 18.5 > 15 deg) and
+#: test_branching_delta_tail::test_fan0... (a fan with no channel on one side, 0.0 < 0.2).
+#: test_branching_structure's regrown roots passes. With it on, a 256 px zig-zag keeps 31-33 deg of
+#: its 33-34 deg turn per 5 px (15-17 off), see the module notes.
+KEEP_CORNERS = False
 #: Width of the narrow Gaussian used at corners, as a share of the wide one (4 px -> 1.5 px: still removes
 #: the one-pixel steps of a diagonal; a bolt's corner keeps its turn).
 NARROW_SHARE = 0.375
