@@ -255,6 +255,8 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
     residuals = [[im if isinstance(im, np.ndarray) and im.dtype == np.float32 and im.shape == r.shape
                   and np.array_equal(im, r) else r for im, r in zip(images, rgb)]]
     taken = [np.zeros_like(b) for b in blades]
+    # What the layers' removals took beyond their masks (ridge extensions), per exemplar.
+    removed = [np.zeros_like(b) for b in blades]
     kept = None
     out = []
     names = list(user_masks)
@@ -386,6 +388,14 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
                 blade_c = np.median(labs[t][rest_t], axis=0)
                 steps_kept.band_coloured = [band_coloured(labs[e], blades[e], layer_c, blade_c) for e in range(n)]
                 steps_kept.band_reach = int(n_px)
+                if any((rm | tk).any() for rm, tk in zip(removed, taken)):
+                    # The band's colour in the exemplars' own pixels where a layer above or its removal
+                    # took them: the band's pale edge read as a vein's ridge, the veins' tips crossing
+                    # into the band (see band_rim's ``claimed`` and ``crossed``).
+                    own_c = [None if e == t or not (removed[e] | taken[e]).any() else band_coloured(
+                        _matched_lab(rgb[e], stats, e, t, params), blades[e], layer_c, blade_c) for e in range(n)]
+                    steps_kept.band_claimed = [None if c is None else (removed[e] & ~taken[e] & c, taken[e] & c)
+                                               for e, c in enumerate(own_c)]
         contrast = [None] * n
 
         def contrast_of(e, labs=labs, steps_kept=steps_kept):
@@ -417,6 +427,7 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
                 for above in out:
                     above.masks[e] = above.masks[e] & ~moved
             taken[e] = taken[e] | m
+            removed[e] = removed[e] | (np.asarray(gone, bool) & ~m)
             # In turn: the patch quilting of wide parts draws from one generator, exemplar after exemplar.
             new_residual.append(remove_layer(residual[e], blades[e], gone, rng=rng))
             # Outside the mask as it was: the removal also grew the mask (by its ridge extension and its
