@@ -352,13 +352,31 @@ def band_coloured(lab, blade, layer_colour, blade_colour) -> np.ndarray:
     -------
     (H, W) bool ndarray
     """
+    return np.asarray(blade, bool) & (band_share(lab, layer_colour, blade_colour) > np.float32(BAND_MIX))
+
+
+def band_share(lab, layer_colour, blade_colour) -> np.ndarray:
+    """How far each pixel's CIELAB lies on the way from ``blade_colour`` (0) to ``layer_colour`` (1).
+
+    Parameters
+    ----------
+    lab : (H, W, 3) float ndarray
+        An exemplar's CIELAB.
+    layer_colour, blade_colour : (3,) array_like
+        The band's and the rest of the blade's median colour on the training leaf.
+
+    Returns
+    -------
+    (H, W) float32 ndarray
+        All zeros when the two colours are the same.
+    """
     lab = np.asarray(lab, np.float32)
     b = np.asarray(blade_colour, np.float32)
     axis = np.asarray(layer_colour, np.float32) - b
     span = float(axis @ axis)
     if span <= 1e-6:
-        return np.zeros(lab.shape[:2], bool)
-    return np.asarray(blade, bool) & (((lab - b) @ axis) / np.float32(span) > np.float32(BAND_MIX))
+        return np.zeros(lab.shape[:2], np.float32)
+    return ((lab - b) @ axis) / np.float32(span)
 
 
 def band_rim(mask, coloured, free, reach: int, *, claimed=None, crossed=None) -> np.ndarray:
@@ -388,9 +406,9 @@ def band_rim(mask, coloured, free, reach: int, *, claimed=None, crossed=None) ->
     outside their layers' masks) join the band wherever they are
     8-connected to it (beyond the paper). The veins' tips crossing into the
     band (of its colour there) stayed with the veins and came out as cream
-    flecks at the ends of new leaves' veins: ``crossed`` pixels (of the
-    band's colour, taken by the layers above) that a closing of the band
-    as wide as they are covers join it too.
+    flecks at the ends of new leaves' veins: ``crossed`` pixels (nearer the
+    band's colour than the layer's own, taken by the layers above) that a
+    closing of the band as wide as they are covers join it too.
 
     Parameters
     ----------
@@ -406,7 +424,8 @@ def band_rim(mask, coloured, free, reach: int, *, claimed=None, crossed=None) ->
         Pixels that join as well wherever they are 8-connected to the mask, at any distance: the band's
         colour in the exemplar's own pixels where the removal of a layer above took them.
     crossed : (H, W) bool ndarray, optional
-        Pixels of the layers above of the band's colour (in the exemplar's own pixels): those that lie
+        Pixels of the layers above nearer the band's colour than their layer's (in the exemplar's own
+        pixels; see ``band_claimed`` of :class:`~branchnb.leaves.analysis_masks._MaskSteps`): those that lie
         across the band (covered by its closing by their own half-width plus one px) join it.
 
     Returns
