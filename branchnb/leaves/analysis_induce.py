@@ -80,7 +80,7 @@ from .induction import (
     spatial_term,
 )
 from .induction_scatter import layer_coloured, scattered_layer
-from .margin_band import band_coloured, band_rim, band_threshold, outline_region
+from .margin_band import BAND_MIX, band_coloured, band_rim, band_share, band_threshold, outline_region
 from .snapping import contrast_direction
 from .stored_maps import BoxedMaps, CombinedMaps, DistanceMaps
 
@@ -198,6 +198,22 @@ def _progress(progress: Progress | None, lo: float, hi: float) -> Progress:
 
 
 
+def _band_claimed(share, blade, removed, taken):
+    """The pixels a band takes back on an exemplar (``claimed``, ``crossed`` of :func:`band_rim`).
+
+    ``share`` its pixels' own :func:`~branchnb.leaves.margin_band.band_share`; ``removed`` what the
+    removals above took outside their masks, ``taken`` their masks. A vein crossing the band is pale
+    there as the band is, and in the green centre pale too (procedural variegated leaves: 0.84 and
+    0.44 of the way to the band's colour): the layers' pixels count as the band's where they are
+    nearer the band's colour than their own median, never under :data:`BAND_MIX`.
+    """
+    coloured = blade & (share > np.float32(BAND_MIX))
+    cut = BAND_MIX
+    if taken.any():
+        cut = max(BAND_MIX, 0.5 * (float(np.median(share[taken])) + 1.0))
+    return removed & ~taken & coloured, taken & blade & (share > np.float32(cut))
+
+
 def induce(images, blades, training_index: int, user_masks: dict, registrations,
            params: InductionParams, *, space: ColourSpace | None = None,
            progress: Progress | None = None, rng=0):
@@ -255,6 +271,8 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
     residuals = [[im if isinstance(im, np.ndarray) and im.dtype == np.float32 and im.shape == r.shape
                   and np.array_equal(im, r) else r for im, r in zip(images, rgb)]]
     taken = [np.zeros_like(b) for b in blades]
+    # What the layers' removals took beyond their masks (ridge extensions), per exemplar.
+    removed = [np.zeros_like(b) for b in blades]
     kept = None
     out = []
     names = list(user_masks)
@@ -386,6 +404,14 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
                 blade_c = np.median(labs[t][rest_t], axis=0)
                 steps_kept.band_coloured = [band_coloured(labs[e], blades[e], layer_c, blade_c) for e in range(n)]
                 steps_kept.band_reach = int(n_px)
+                if any((rm | tk).any() for rm, tk in zip(removed, taken)):
+                    # The band's colour in the exemplars' own pixels where a layer above or its removal
+                    # took them: the band's pale edge read as a vein's ridge, the veins' tips crossing
+                    # into the band (see band_rim's ``claimed`` and ``crossed``).
+                    own_c = [None if e == t or not (removed[e] | taken[e]).any() else band_share(
+                        _matched_lab(rgb[e], stats, e, t, params), layer_c, blade_c) for e in range(n)]
+                    steps_kept.band_claimed = [None if c is None else _band_claimed(c, blades[e], removed[e], taken[e])
+                                               for e, c in enumerate(own_c)]
         contrast = [None] * n
 
         def contrast_of(e, labs=labs, steps_kept=steps_kept):
@@ -417,6 +443,7 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
                 for above in out:
                     above.masks[e] = above.masks[e] & ~moved
             taken[e] = taken[e] | m
+            removed[e] = removed[e] | (np.asarray(gone, bool) & ~m)
             # In turn: the patch quilting of wide parts draws from one generator, exemplar after exemplar.
             new_residual.append(remove_layer(residual[e], blades[e], gone, rng=rng))
             # Outside the mask as it was: the removal also grew the mask (by its ridge extension and its

@@ -36,7 +36,11 @@ class _MaskSteps:
     ``liberal`` per neighbourhood the colour terms its liberal layers were read on where an exemplar's
     own colours stood in (:func:`~branchnb.leaves.analysis_combine.unmatched_liberal`; None: none did);
     ``band_coloured``/``band_reach`` a band's pixels of its colour per exemplar and how far from the
-    band they join it (:func:`~branchnb.leaves.margin_band.band_rim`; the training leaf's for its removal only).
+    band they join it (:func:`~branchnb.leaves.margin_band.band_rim`; the training leaf's for its removal only);
+    ``band_claimed`` per exemplar the pixels of the band's colour (in its own pixels) the removal of a
+    layer above took outside that layer's mask, and those the layers above took, which the band takes
+    back where they join it or lie across it (``claimed``/``crossed`` of
+    :func:`~branchnb.leaves.margin_band.band_rim`; None: none).
     """
 
     user: np.ndarray
@@ -58,6 +62,7 @@ class _MaskSteps:
     liberal: dict | None = None
     band_coloured: list | None = None
     band_reach: int = 0
+    band_claimed: list | None = None
 
 
 def _contrast_map(lab_t, lab_e, steps: _MaskSteps, e: int) -> np.ndarray:
@@ -96,7 +101,9 @@ def _exemplar_mask(steps: _MaskSteps, e: int, combined_e, delta: float, tr_iou: 
         m = _induced(combined_e, delta, tr_iou, s.snapped, e, blade, taken_e, centred=s.centred)
         m = band_extent(m, colour_e, band_delta, blade & ~taken_e)
         if s.band_coloured is not None and s.band_coloured[e] is not None:
-            m = band_rim(m, s.band_coloured[e], blade & ~taken_e, s.band_reach)
+            claimed, crossed = s.band_claimed[e] if s.band_claimed is not None and s.band_claimed[e] is not None \
+                else (None, None)
+            m = band_rim(m, s.band_coloured[e], blade & ~taken_e, s.band_reach, claimed=claimed, crossed=crossed)
         return m, None
     if s.snapped is not None:
         combined_e, delta = colour_alone(combined_e, delta, colour_e, delta_s, blade, s.user, s.blades[t])
