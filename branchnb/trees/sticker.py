@@ -200,11 +200,12 @@ def _pen_cover(image: np.ndarray, border: _StickerBorder, ink: np.ndarray, limit
     return float(best_q[band & ~(np.linalg.norm(rgb - border.colour, axis=2) <= BORDER_TOL)].sum()) / float(first.sum())
 
 
-def _thin_ink(image: np.ndarray, border: _StickerBorder) -> np.ndarray | None:
+def _thin_ink(image: np.ndarray, border: _StickerBorder, blended: bool = True) -> np.ndarray | None:
     """The ink of an outline too thin for the outline measure (blended with the border and the
     fill once scaled down), or None: pixels from the border's inner edge to 2 px inside it darker
     (luminance) by :data:`THIN_DARKER` than both the border and the fill nearest them, within
-    1 px of at least :data:`THIN_SHARE` of the first ring inside the border."""
+    1 px of at least :data:`THIN_SHARE` of the first ring inside the border; with ``blended``, failing
+    that, pixels off the line from the fill to the border colour (:data:`THIN_OFF`)."""
     img = np.asarray(image, np.float32)
     alpha = img[..., 3] >= 0.5
     depth = _edt(alpha)
@@ -218,6 +219,8 @@ def _thin_ink(image: np.ndarray, border: _StickerBorder) -> np.ndarray | None:
     band = alpha & (depth > w - 1.0) & (depth <= w + 2.5)
     dark = band & (lum <= np.minimum(lum[iy, ix], float(border.colour @ _LUM)) - THIN_DARKER)
     near = ndi.binary_dilation(dark, structure=np.ones((3, 3), bool))
+    if (not dark.any() or float(near[first].mean()) < THIN_SHARE) and not blended:
+        return None
     if not dark.any() or float(near[first].mean()) < THIN_SHARE:
         # A sub-pixel pen is blended with the light border as much as with the fill (a 3 px red
         # pen on a 1000 px sticker worked on at 192 px is 0.6 px: a blend of white, red and the
@@ -318,6 +321,11 @@ def _sticker_mix(image: np.ndarray, exemplars: Sequence, cw: np.ndarray, weights
     # from the rim being darker than the fill inside it (beyond trees41).
     thin = [None if o.outlined or b is None else _thin_ink(e.image, b)
             for o, e, b in zip(outl, exemplars, borders, strict=True)]
+    # A pen blended below a pixel found on some sources only (a 0.4 px pen: its "ink" a blend
+    # with the crown, the mix ringed in the colour of one source's fill) is no pen (trees53).
+    if not all(t is not None for t, o, b in zip(thin, outl, borders, strict=True) if b is not None and not o.outlined):
+        thin = [None if o.outlined or b is None else _thin_ink(e.image, b, blended=False)
+                for o, e, b in zip(outl, exemplars, borders, strict=True)]
     outl = [SimpleNamespace(outlined=True, ink=t, width=1) if t is not None else o
             for o, t in zip(outl, thin, strict=True)]
     ons = [o.outlined for o in outl]
