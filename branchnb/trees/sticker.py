@@ -164,6 +164,9 @@ def _stripped(exemplar, border: _StickerBorder):
 #: beside them, next to at least THIN_SHARE of the first ring inside the border (:func:`_thin_ink`).
 THIN_DARKER = 0.08
 THIN_SHARE = 0.75
+#: ... or (a sub-pixel pen blended with the border too) this far (RGB) off the line from the fill to
+#: the border colour and darker than the point on it.
+THIN_OFF = 0.05
 
 
 def _pen_cover(image: np.ndarray, border: _StickerBorder, ink: np.ndarray, limit: float) -> float:
@@ -197,11 +200,12 @@ def _pen_cover(image: np.ndarray, border: _StickerBorder, ink: np.ndarray, limit
     return float(best_q[band & ~(np.linalg.norm(rgb - border.colour, axis=2) <= BORDER_TOL)].sum()) / float(first.sum())
 
 
-def _thin_ink(image: np.ndarray, border: _StickerBorder) -> np.ndarray | None:
+def _thin_ink(image: np.ndarray, border: _StickerBorder, blended: bool = True) -> np.ndarray | None:
     """The ink of an outline too thin for the outline measure (blended with the border and the
     fill once scaled down), or None: pixels from the border's inner edge to 2 px inside it darker
     (luminance) by :data:`THIN_DARKER` than both the border and the fill nearest them, within
-    1 px of at least :data:`THIN_SHARE` of the first ring inside the border."""
+    1 px of at least :data:`THIN_SHARE` of the first ring inside the border; with ``blended``, failing
+    that, pixels off the line from the fill to the border colour (:data:`THIN_OFF`)."""
     img = np.asarray(image, np.float32)
     alpha = img[..., 3] >= 0.5
     depth = _edt(alpha)
@@ -211,14 +215,34 @@ def _thin_ink(image: np.ndarray, border: _StickerBorder) -> np.ndarray | None:
     first = alpha & (depth > w + 0.5) & (depth <= w + 1.5)
     if first.sum() < 16 or not fill.any():
         return None
-    _, (iy, ix) = ndi.distance_transform_edt(~fill, return_indices=True)
+    to_fill, (iy, ix) = ndi.distance_transform_edt(~fill, return_indices=True)
     band = alpha & (depth > w - 1.0) & (depth <= w + 2.5)
     dark = band & (lum <= np.minimum(lum[iy, ix], float(border.colour @ _LUM)) - THIN_DARKER)
-    if not dark.any():
-        return None
     near = ndi.binary_dilation(dark, structure=np.ones((3, 3), bool))
-    if float(near[first].mean()) < THIN_SHARE:
+    if (not dark.any() or float(near[first].mean()) < THIN_SHARE) and not blended:
         return None
+    if not dark.any() or float(near[first].mean()) < THIN_SHARE:
+        # A sub-pixel pen is blended with the light border as much as with the fill (a 3 px red
+        # pen on a 1000 px sticker worked on at 192 px is 0.6 px: a blend of white, red and the
+        # crown, often no darker than the crown): found off the line from the fill to the border
+        # colour (where the plain anti-aliased step between the two lies) and darker than it
+        # (beyond trees41/52, trees53).
+        rgb = img[..., :3]
+        f = rgb[iy, ix]
+        d = border.colour - f
+        # The line runs on past the fill: a fill whose rim was pushed away from the border colour
+        # (a darker, more saturated first pixel, as the library's clean-up of a light fringe
+        # leaves it) is no ink (96 px white-ring stickers were taken as outlined).
+        t = np.minimum(((rgb - f) * d).sum(axis=2) / np.maximum((d * d).sum(axis=2), 1e-6), 1.0)
+        on = f + t[..., None] * d
+        # ... next to the fill (a part too thin for fill of its own, a small sticker's trunk, is no
+        # blend of the crown colour it is measured against).
+        dark = band & (to_fill <= 5.0) & (np.linalg.norm(rgb - on, axis=2) > THIN_OFF) & (lum <= on @ _LUM)
+        if not dark.any():
+            return None
+        near = ndi.binary_dilation(dark, structure=np.ones((3, 3), bool))
+        if float(near[first].mean()) < THIN_SHARE:
+            return None
     return np.median(img[..., :3][dark & (lum <= np.quantile(lum[dark], 0.25))], axis=0).astype(np.float32)
 
 
@@ -297,6 +321,11 @@ def _sticker_mix(image: np.ndarray, exemplars: Sequence, cw: np.ndarray, weights
     # from the rim being darker than the fill inside it (beyond trees41).
     thin = [None if o.outlined or b is None else _thin_ink(e.image, b)
             for o, e, b in zip(outl, exemplars, borders, strict=True)]
+    # A pen blended below a pixel found on some sources only (a 0.4 px pen: its "ink" a blend
+    # with the crown, the mix ringed in the colour of one source's fill) is no pen (trees53).
+    if not all(t is not None for t, o, b in zip(thin, outl, borders, strict=True) if b is not None and not o.outlined):
+        thin = [None if o.outlined or b is None else _thin_ink(e.image, b, blended=False)
+                for o, e, b in zip(outl, exemplars, borders, strict=True)]
     outl = [SimpleNamespace(outlined=True, ink=t, width=1) if t is not None else o
             for o, t in zip(outl, thin, strict=True)]
     ons = [o.outlined for o in outl]
