@@ -203,7 +203,7 @@ def _thin_below_forks(radii: list[np.ndarray], parents: list, verts: list) -> li
     --------
     >>> out = _thin_below_forks([np.full(8, 4.0), np.full(3, 3.0)], [None, 0], [None, 2])
     >>> out[0].round(2).tolist()
-    [4.0, 4.0, 4.0, 3.55, 3.1, 2.65, 2.65, 2.65]
+    [4.0, 4.0, 4.0, 3.8, 3.6, 3.4, 3.2, 3.0]
     """
     out = [np.asarray(r, np.float64).copy() for r in radii]
     kids: dict = {}

@@ -138,7 +138,10 @@ def hatched_background(gray, branches=None, *, min_coherence: float = MIN_COHERE
     beside_land = np.bincount(lab_i[ndi.binary_dilation(~out & ~wall, iterations=2) & ink_b], minlength=n_i + 1)
     hatch = long_ & (along >= 0.9 * size_i) & (beside_land <= 0.1 * size_i)
     hatch[0] = False
-    return out | hatch[lab_i]
+    sea = out | hatch[lab_i]
+    # a textured window that survives the cut only in slivers (rivers running side by side in a crop of a
+    # drawn map: 0.6 % of it) is no sea; erasing it cost that crop 4 % of its river recall
+    return sea if sea.mean() >= MIN_AREA else np.zeros_like(sea)
 
 
 def without_hatched_sea(image, gray):

@@ -11,6 +11,7 @@ at any size is what keeps the results alike.
 from __future__ import annotations
 
 import math
+import numbers
 
 import numpy as np
 
@@ -135,6 +136,10 @@ def planning_size(shape, lattice_size: int) -> int:
     >>> planning_size((600, 800), 512), planning_size((48, 64), 512), planning_size((48, 64), 0)
     (512, 136, 0)
     """
+    if isinstance(lattice_size, bool) or not isinstance(lattice_size, numbers.Real):
+        raise TypeError(f"lattice_size must be a number, got {type(lattice_size).__name__}")
+    if not math.isfinite(lattice_size):
+        raise ValueError(f"lattice_size must be finite, got {lattice_size!r}")
     if lattice_size <= 0:
         return int(lattice_size)
     h, w = int(shape[0]), int(shape[1])

@@ -93,9 +93,10 @@ class _SeedSteps:
         >>> Stylizer(np.ones((600, 800))).lattice_factor(p), Stylizer(np.ones((48, 64))).lattice_factor(p)
         (1.0, 0.265625)
         """
+        size = planning_size(self.shape, p.lattice_size)  # validates lattice_size
         if p.lattice_size <= 0:
             return 1.0
-        return planning_size(self.shape, p.lattice_size) / float(p.lattice_size)
+        return size / float(p.lattice_size)
 
     def size_scale(self, p: StylizeParams) -> float:
         """Image pixels per pixel of a ``p.lattice_size`` lattice (geometric mean of x and y): the
