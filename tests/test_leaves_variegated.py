@@ -228,3 +228,47 @@ def test_band_takes_its_edge_back_from_the_veins(variegated_240):
     assert min(iou(veins.masks[e], vein[e]) for e in range(1, 4)) >= 0.955
     # The veins give their tips across the band to it (main 14-16 px inside the band per exemplar).
     assert max(int((veins.masks[e] & ndi.binary_erosion(band[e])).sum()) for e in range(1, 4)) <= 6
+
+
+def test_band_takes_the_veins_darker_cream_across_it():
+    """leaves83: a vein the band paints a darker cream than its own (0.59 of the way from the green to the
+    band's colour, 0.26 in the green centre) is the band's there; at half the way from the vein's colour
+    (leaves82's cut, 0.63) only its anti-aliased edges (0.8) went, and the vein tips kept blobs of the band."""
+    from branchnb.leaves.analysis_induce import _band_claimed
+    blade = np.ones((30, 40), bool)
+    share = np.zeros((30, 40), np.float32)
+    share[:, :10] = 1.0  # the band
+    taken = np.zeros_like(blade)
+    taken[14:17, :30] = True  # a vein from the margin into the centre
+    share[14:17, 10:30] = 0.26
+    share[14:17, :10] = 0.59
+    share[14, :10] = share[16, :10] = 0.8  # its edges mixed with the band
+    claimed, crossed = _band_claimed(share, blade, np.zeros_like(blade), taken)
+    assert crossed[14:17, :10].all() and not crossed[:, 10:].any() and not claimed.any()
+
+
+def test_band_rim_takes_the_vein_pixels_of_its_colour_along_its_edge():
+    """leaves83: a vein's mask ran along the band's inner edge 1-2 px off the band's mask (outside its
+    closing); those pixels join the band within ``CROSSED_EDGE`` px, the vein's farther ones stay."""
+    from branchnb.leaves.margin_band import CROSSED_EDGE
+    blade = np.ones((40, 40), bool)
+    band = np.zeros_like(blade)
+    band[:, :10] = True
+    edge = np.zeros_like(blade)
+    edge[5:35, 10:10 + CROSSED_EDGE] = True  # the band's pale rim, taken by the vein
+    far = np.zeros_like(blade)
+    far[5:35, 10 + CROSSED_EDGE + 2] = True  # of the band's colour too, but apart from it
+    out = band_rim(band, band, blade & ~edge & ~far, 1, crossed=edge | far)
+    assert out[5:35, 10:10 + CROSSED_EDGE].all()
+    assert not (out & far).any()
+
+
+def test_veins_keep_out_of_the_band(variegated_240):
+    """leaves83: the veins' masks held 2 / 10 / 4 px of the true band on exemplars 1-3 (their tips' blobs
+    of the band's edge; at 600 px up to 469, vein IoU 0.84 -> 0.91); now none, exemplar 2's IoU 0.977 -> 0.99."""
+    leaves, a = variegated_240
+    veins = a.layer("veins")
+    band = [_on_canvas(leaves[e][1], a.offsets[e], a.blades[e].shape, a.mirrored[e]) for e in range(4)]
+    vein = [_on_canvas(leaves[e][2], a.offsets[e], a.blades[e].shape, a.mirrored[e]) for e in range(4)]
+    assert max(int((veins.masks[e] & band[e]).sum()) for e in range(1, 4)) == 0
+    assert iou(veins.masks[2], vein[2]) >= 0.985
