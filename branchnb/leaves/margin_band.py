@@ -45,6 +45,15 @@ induced 0.81-0.82 -> 0.87-0.92 at 160 px, 0.86-0.90 -> 0.94-0.96 at 240 px (6 ex
 exemplars 0) 0.0043 -> 0.0032 at 160 px, 0.0048 -> 0.0022 at 240 px, 0.015 -> 0.008 at 400 px,
 unchanged (0.018) at 600 px: long threads along the pasted band's edge there, on main too, whose
 source is not the residual's rim (open).
+
+leaves83 (the veins' parts across the band and along its edge given to it: the crossed cut a quarter of
+the way from the veins' colour to the band's, :data:`CROSSED_EDGE`): vein pixels in the true band,
+exemplars 1..n, 240 px 2/10/4 -> 0/0/0, 400 px 23/46/0/28 -> 0, 600 px 49/25/469/48/14 -> 0/0/1/0/0;
+worst vein IoU at 600 px 0.838 -> 0.913. New leaves (6 per rng, rngs 0-1): cream flecks (components of
+2 px or more of cream in the green core) per leaf 4.8 -> 0.25 at 400 px, 6.4 -> 3.1 at 600 px; cream
+share of the core mean / max 0.0021 / 0.024 -> 0.0001 / 0.0006 at 400 px, 0.0017 / 0.0076 -> 0.0009 /
+0.0025 at 600 px. What is left at 600 px: a donor's vein fork at the green centre's apex (green between
+its branches) pasted over the new leaf's band, and the blurred band edge of the background (open).
 """
 
 from __future__ import annotations
