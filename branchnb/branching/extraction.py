@@ -214,6 +214,7 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
         p = dataclasses.replace(p, **overrides)
     check_params(p)
     gray = gray_for_extraction(image)
+    hatched = False
     if line_colour is None or isinstance(line_colour, str):
         # an engraved map's sea is parallel hatching, not rivers: erased to the paper (.hatched_seas)
         from .hatched_seas import without_hatched_sea
@@ -223,6 +224,7 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
             # its coast is then the outline of a flat region (the paper where the hatching was), taken out
             # by the ridge route's outline test; the binary route would trace it as a line
             image, gray = erased_image, erased_gray
+            hatched = True
             if p.binary == "auto":
                 p = dataclasses.replace(p, binary="off")
     colour_image = image          # the region colours, before any ink map replaces the image below
@@ -280,6 +282,15 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
                                        return_maps, root_point, flat_regions=False, frame_reach=True)
     if p.binary == "on" or (p.binary == "auto" and shape_width is None and is_binary(gray)):
         return _extract_binary(gray, p, mask, return_maps, root_point, colour=colour_image)
+    if p.binary == "auto" and shape_width is None and hue is None and not hatched:
+        # one solid ink on a smooth shaded ground (a winter tree against the sky): binary once the shading is
+        # gone, and traced by its medial axis (the ridge filter broke a trunk from its twigs, .smooth_ground)
+        from .smooth_ground import flattened_silhouette
+
+        flat = flattened_silhouette(as_rgb(image)[..., :3] if np.ndim(image) == 3 else gray)
+        if flat is not None:
+            # (no drawn regions: a shaded sky's many colours would read as region borders cutting the lines)
+            return _extract_binary(flat, dataclasses.replace(p, polarity="dark"), mask, return_maps, root_point)
     if hue is not None:
         gray = hue
     lines = gray

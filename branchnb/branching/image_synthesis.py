@@ -151,6 +151,15 @@ def _flat_lines(canvas, cached: dict, example_structure, target_structure, pm_s,
     if "flat_lines" not in cached:
         ex = cached["ex"]
         found = flat_line_colour(ex, pm_s, regions.unusable)
+        if found is None and cached.get("silhouette") is not None:
+            # a silhouette's ink is solid by its own test (.smooth_ground) even where its twigs are all
+            # anti-aliased rim, which the lines' spread test above reads as a second colour; its ground is
+            # the ring's median
+            ring = (pm_s.dist >= pm_s.radius + 3.0) & (pm_s.dist <= pm_s.radius + 8.0)
+            if regions.unusable is not None:
+                ring &= ~regions.unusable
+            if ring.any():
+                found = (cached["silhouette"][0], np.median(ex[..., :3][ring], axis=0).astype(np.float32))
         if found is not None:
             found = found + (line_width_scale(ex, example_structure, pm_s, *found),)
         cached["flat_lines"] = found
@@ -168,8 +177,23 @@ def _flat_lines(canvas, cached: dict, example_structure, target_structure, pm_s,
                    poisson=use_poisson, anchored=p.anchors, anchor_weight=p.anchor_weight,
                    screen=p.completion_screen if p.anchors else 0.0, min_free=p.min_free, rng=rng)
 
+    if cached.get("silhouette") is not None:
+        # a silhouette's ground is one smooth shading (.smooth_ground): the whole ground is that shading (patches
+        # quilted from elsewhere in a sky gradient left pale blotches, a membrane through the band's rim
+        # smeared the fragments' stray ink into dark ones)
+        shading = cached["silhouette"][1]
+        if shading.shape[:2] != canvas.shape[:2]:
+            shading = cv2.resize(shading, (canvas.shape[1], canvas.shape[0]), interpolation=cv2.INTER_LINEAR)
+        canvas = canvas.copy()
+        canvas[..., :3] = shading
+
+        def fill(c, covered, example, forbidden):
+            c[..., :3][covered] = shading[covered]
+    else:
+        fill = quilt
+
     return redraw_flat_lines(canvas, cached["ex"], regions.forbidden, target_structure, pm_t, line, ground, scale,
-                             quilt, known)
+                             fill, known)
 
 
 def _two_colours(image: np.ndarray) -> bool:
@@ -420,7 +444,12 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
                 from .patchwork import patch_diameter
 
                 patchwork = patch_diameter(ex, ground)
-        if p.flatten_shading > 0 and flat_share < 0.5 and not patchwork:
+        # one solid ink on a smooth shaded ground (a tree against the sky): the shading is the ground's own
+        # gradient, kept as it is; its lines are redrawn flat below (.smooth_ground, .flat_lines)
+        from .smooth_ground import silhouette_colours
+
+        silhouette = silhouette_colours(ex) if flat_share < 0.5 and not patchwork else None
+        if p.flatten_shading > 0 and flat_share < 0.5 and not patchwork and silhouette is None:
             ex, shading = _flattened_if_shaded(ex, regions, pm_s, p.flatten_shading)
         excluded = regions.body | regions.branch_like
         if regions.salient is not None:
@@ -433,7 +462,7 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         if labels_ex.max() >= 1:
             _joined_at_region_edge(sm_s, labels_ex, free_start, free_end)
         cached.update(regions=regions, ex=ex, excluded=excluded, shading=shading, lib_b=lib_b, lib_f=lib_f,
-                      patchwork=patchwork,
+                      patchwork=patchwork, silhouette=silhouette,
                       free_start=free_start, free_end=free_end, vec_cache={})
     regions, ex, excluded, lib_b, lib_f = (cached[k] for k in ("regions", "ex", "excluded", "lib_b", "lib_f"))
     if boundary is not None:

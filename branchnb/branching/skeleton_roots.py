@@ -56,6 +56,32 @@ def _held_radius(pts: np.ndarray, r: np.ndarray, ends: np.ndarray, members: np.n
     return out
 
 
+#: A piece whose lines mostly have one width still has a *trunk* when an end at the frame stays at least
+#: this many times as thick as the piece's 75th radius percentile (and :data:`TRUNK_EXTRA` px more):
+#: :func:`_frame_trunk_end`.
+TRUNK_HELD_RATIO = 3.0
+TRUNK_EXTRA = 2.0
+
+
+def _frame_trunk_end(pts: np.ndarray, r: np.ndarray, ends: np.ndarray, members: np.ndarray,
+                     frame_d: np.ndarray, hi: float) -> bool:
+    """Whether a thick trunk enters the frame at one of a piece's ends (``frame_d``: each end's distance
+    to the frame; ``hi``: the piece's 75th radius percentile).
+
+    Beyond the paper (issue 23, an unseen winter tree against the sky): a tree's twigs are most of its
+    skeleton, so its radius quartiles (0.5 / 1.5 px) read as lines of one width, and a drawn map's rule
+    (rooted where the lines meet a large flat region) took the sky for the sea and rooted the tree in its
+    crown; the synthesized trees grew from the crown downward. A line that stays several times thicker than
+    the piece's lines where the frame cuts it is a trunk, whatever most of the piece looks like; a map's river
+    entering at the frame stays its own width there, and a junction's blob inside is no frame end.
+    """
+    if not len(ends):
+        return False
+    held = _held_radius(pts, r, ends, members)
+    at_frame = frame_d <= ENTRY_FRAME + ENTRY_RADII * held
+    return bool(np.any(at_frame & (held >= max(TRUNK_HELD_RATIO * hi, hi + TRUNK_EXTRA))))
+
+
 def _even_ends(end_r: np.ndarray, pts: np.ndarray, r: np.ndarray, ends: np.ndarray, members: np.ndarray) -> bool:
     """Whether no end of a piece is much thicker than its median end (:data:`OUTLET_EVEN`), by the
     largest radius near each end (``end_r``) or, failing that, by how thick the line stays near it

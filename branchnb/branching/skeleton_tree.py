@@ -39,10 +39,13 @@ from .skeleton_roots import (  # noqa: F401  (re-exported: split from this modul
     SMALL_LEAD,
     SMALL_TIE,
     SMALL_VOTES,
+    TRUNK_EXTRA,
+    TRUNK_HELD_RATIO,
     _end_radius,
     _even_ends,
     _frame_entries,
     _frame_outlet,
+    _frame_trunk_end,
     _held_radius,
     _inside_radius,
     _junction_trunk_arms,
@@ -312,6 +315,9 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
                 one_width = hi < 1.5 * lo or hi - lo < 1.0 or (
                     has_region and hi - lo <= 1.0 and float(region_dist[ys[cand], xs[cand]].min()) / scale
                     <= OUTLET_FRAME + 2.0 * float(np.median(r_full[members])) + OUTLET_COAST)
+                if one_width and has_region and _frame_trunk_end(
+                        pts_full, r_full, ends, members, border_dist[ys[ends], xs[ends]] / scale, hi):
+                    one_width = False
                 if has_region and one_width:
                     key = region_dist[ys[cand], xs[cand]]
                     cand, key = _mouth_node(cand, key, members, region_dist[ys[members], xs[members]], scale)
