@@ -185,10 +185,11 @@ def _flat_lines(canvas, cached: dict, example_structure, target_structure, pm_s,
         if shading.shape[:2] != canvas.shape[:2]:
             shading = cv2.resize(shading, (canvas.shape[1], canvas.shape[0]), interpolation=cv2.INTER_LINEAR)
         canvas = canvas.copy()
-        canvas[..., :3] = shading
+        n = min(3, canvas.shape[2])
+        canvas[..., :n] = shading[..., :n]
 
         def fill(c, covered, example, forbidden):
-            c[..., :3][covered] = shading[covered]
+            c[..., :n][covered] = shading[..., :n][covered]
     else:
         fill = quilt
 
@@ -448,7 +449,8 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         # gradient, kept as it is; its lines are redrawn flat below (.smooth_ground, .flat_lines)
         from .smooth_ground import silhouette_colours
 
-        silhouette = silhouette_colours(ex) if flat_share < 0.5 and not patchwork else None
+        # (colour examples: the line redrawing works in RGB)
+        silhouette = silhouette_colours(ex) if flat_share < 0.5 and not patchwork and ex.shape[2] >= 3 else None
         if p.flatten_shading > 0 and flat_share < 0.5 and not patchwork and silhouette is None:
             ex, shading = _flattened_if_shaded(ex, regions, pm_s, p.flatten_shading)
         excluded = regions.body | regions.branch_like
@@ -475,6 +477,27 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         excluded = regions.body | regions.branch_like
         if regions.salient is not None:
             excluded = excluded | regions.salient
+    if cached.get("silhouette") is not None and p.flat_drawing and boundary is None and not flat \
+            and not getattr(example_structure, "hubs", None):
+        # one solid ink on a smooth shaded ground (.smooth_ground): the ground is the example's shading and the
+        # lines are drawn in the ink (below, .flat_lines); the fragments and the completion would all be
+        # painted over (their ground at 512 px took about two thirds of the time)
+        report(0.5, "drawing the silhouette")
+        canvas = np.zeros((H, W, ex.shape[2]), np.float32)
+        if ex.shape[2] == 4:
+            canvas[..., 3] = 1.0
+        known = np.ones((H, W), bool)
+        canvas = _flat_lines(canvas, cached, example_structure, target_structure, pm_s, pm_t, regions, p,
+                             use_poisson, rng, known)
+    if cached.get("silhouette") is not None and cached.get("flat_lines") is not None and p.flat_drawing \
+            and boundary is None and not flat and not getattr(example_structure, "hubs", None):
+        np.clip(np.nan_to_num(canvas, nan=0.0), 0.0, 1.0, out=canvas)
+        z = np.zeros((H, W), bool)
+        timings["total"] = time.perf_counter() - t_start
+        report(1.0, "done")
+        return ImageSynthesisResult(canvas, z, z.copy(), np.full((H, W, 2), np.nan), np.full((H, W), -1, np.int64),
+                                    z.copy(), [], 0.0, given, regions, 0, timings, p,
+                                    example_labels=labels_ex, labels=labels_t)
     free_start, free_end = cached["free_start"].copy(), cached["free_end"].copy()
     # a salient spot (a retina's optic disc) is copied by no fragment, not even its own branch's
     # beyond that branch's body: carried along, it made pale copies of the disc at junctions
