@@ -282,6 +282,58 @@ def _drop_warped_border(mid: np.ndarray, inner: np.ndarray, colour: np.ndarray, 
     return out
 
 
+#: Largest remnant of a warped outline (:func:`_drop_band_specks`), in squares of the band's depth.
+SPECK_AREA = 1.0
+#: ... whose pixels lie at least this share of the way from the fill next to them to the ink.
+SPECK_INK = 0.3
+
+
+def _drop_band_specks(mid: np.ndarray, inner: np.ndarray, di: np.ndarray, ink: np.ndarray,
+                      pen_w: float, lim: float) -> np.ndarray:
+    """Repaint with the fill next to them the ink-coloured pieces cut off from a rebuilt outline
+    ring and lying wholly in the band the warped rings were taken from (``di <= lim``).
+
+    Notes
+    -----
+    Beyond trees41/53 (issue 24, trees55). The warped outline, stretched along the crown's notches
+    and sides, breaks into dotted pieces 1-3 px inside the new ring, apart from the rim and from
+    each other: neither the leak repaint (pieces touching the rim or running along it) nor
+    :func:`~branchnb.trees.flat_art._drop_rim_flecks` (which spares the first 3 px past the pen as
+    a hand-drawn outline's ragged edge) took them, so 192 px mixes kept 2-18 dark dots each. The
+    ring here is painted at an exact depth, so any ink deeper than ``pen_w + 1`` is no part of it.
+    A piece is ink when its pixels lie on the line from the fill next to them to the ink, at
+    least :data:`SPECK_INK` of the way (anti-aliased blends of a sub-pixel pen included); one larger than ``SPECK_AREA lim**2`` or reaching deeper than the band is a
+    detail of the drawing and stays.
+    """
+    rgb = mid[..., :3]
+    body = inner & (di > pen_w + 1.0)
+    to_ink = np.linalg.norm(rgb - ink, axis=2)
+    # the fill: off the ink and off the blends round it
+    fillish = body & ~ndi.binary_dilation(to_ink <= 0.35, structure=np.ones((3, 3), bool))
+    if not fillish.any():
+        return mid
+    _, (iy, ix) = ndi.distance_transform_edt(~fillish, return_indices=True)
+    near = rgb[iy, ix]
+    # ... a third of the way or more from the fill to the ink, on that line
+    d = ink - near
+    t = ((rgb - near) * d).sum(axis=2) / np.maximum((d * d).sum(axis=2), 1e-6)
+    off = np.linalg.norm(rgb - (near + np.clip(t, 0.0, 1.0)[..., None] * d), axis=2)
+    dark = body & (t >= SPECK_INK) & (off <= 0.1)
+    lab, n = ndi.label(dark, structure=np.ones((3, 3), bool))
+    if not n:
+        return mid
+    idx = np.arange(1, n + 1)
+    far = np.asarray(ndi.maximum(di, lab, idx))
+    area = np.asarray(ndi.sum(dark, lab, idx))
+    speck = (far <= lim) & (area <= SPECK_AREA * lim * lim)
+    if not speck.any():
+        return mid
+    drop = np.isin(lab, idx[speck])
+    out = mid.copy()
+    out[drop, :3] = near[drop]
+    return out
+
+
 def _sticker_mix(image: np.ndarray, exemplars: Sequence, cw: np.ndarray, weights: np.ndarray,
                  sources: np.ndarray | None = None) -> np.ndarray | None:
     """Rebuild a mix of sticker trees ring by ring (None when they are not stickers).
@@ -385,6 +437,7 @@ def _sticker_mix(image: np.ndarray, exemplars: Sequence, cw: np.ndarray, weights
         mid[ring_px, :3] = (q * ink.ink + (1.0 - q) * mid[..., :3])[ring_px]
         # Pieces of the warped outline deeper than that (at the crown's notches) are specks.
         mid = _drop_rim_flecks(mid, ink.ink, ink_w)
+        mid = _drop_band_specks(mid, inner, di, ink.ink, pen_w, lim)
     else:
         mid = _drop_warped_border(mid, inner, colour, width)
     res = out
