@@ -282,6 +282,17 @@ def _drop_warped_border(mid: np.ndarray, inner: np.ndarray, colour: np.ndarray, 
     return out
 
 
+def _fill_to_ink(image: np.ndarray, border: _StickerBorder, ink: np.ndarray, pen: float) -> float | None:
+    """How near (RGB, 2nd percentile) a sticker's fill comes to its outline's ``ink``: pixels
+    deeper than the border, the pen and 2.5 px, not in the border colour (None when there are none)."""
+    alpha = image[..., 3] >= 0.5
+    rgb = image[..., :3]
+    fill = alpha & (_edt(alpha) > border.width + pen + 2.5) & (np.linalg.norm(rgb - border.colour, axis=2) > 0.35)
+    if not fill.any():
+        return None
+    return float(np.quantile(np.linalg.norm(rgb[fill] - ink, axis=1), 0.02))
+
+
 #: Largest remnant of a warped outline (:func:`_drop_band_specks`), in squares of the band's depth.
 SPECK_AREA = 1.0
 #: ... whose pixels lie at least this share of the way from the fill next to them to the ink.
@@ -414,8 +425,13 @@ def _sticker_mix(image: np.ndarray, exemplars: Sequence, cw: np.ndarray, weights
         # lies 0.38 from a grey ink and 0.4 from a navy one; taken as ink it took the crown's colour).
         to_ink = np.linalg.norm(rgb - ink.ink, axis=2)
         to_border = np.linalg.norm(rgb - colour, axis=2)
-        deep = inner & (di > ink_w + 2.5) & (to_border > 0.35)
-        tol = min(0.3, 0.5 * float(np.quantile(to_ink[deep], 0.02))) if deep.any() else 0.3
+        # The fills' nearest approach to the ink is read on the sources (inside their outlines):
+        # read on the mix, where a warped outline band 10-25 px wide (400 px stickers) is 2 % of
+        # the crown or more, it made every ink pixel "fill" and the band stayed (trees55).
+        near_fill = [_fill_to_ink(e.image, b, o.ink, o.width) for e, b, o in zip(exemplars, borders, outl, strict=True)
+                     if b is not None and o.outlined]
+        near_fill = [q for q in near_fill if q is not None]
+        tol = min(0.3, 0.5 * min(near_fill)) if near_fill else 0.3
         # ... or an anti-aliased blend of the two rings (on the line from ink to border colour).
         d = colour - ink.ink
         t = np.clip(((rgb - ink.ink) @ d) / max(float(d @ d), 1e-6), 0.0, 1.0)
@@ -431,6 +447,18 @@ def _sticker_mix(image: np.ndarray, exemplars: Sequence, cw: np.ndarray, weights
             along = [i + 1 for i, b in enumerate(boxes)
                      if b is not None and max(b[0].stop - b[0].start, b[1].stop - b[1].start) > 4 * lim]
             leak = np.isin(lab, np.union1d(touch[touch > 0], along))
+            # A warped outline band running deeper than the band (400 px mixes: 10-25 px) is followed
+            # to its end, and a piece of it wholly inside twice the band and running along the rim
+            # goes too; a line of the drawing reaching deeper stays (trees55).
+            lab2, n2 = ndi.label(layer & (di <= 3.0 * lim), structure=np.ones((3, 3), bool))
+            if n2:
+                idx2 = np.arange(1, n2 + 1)
+                far2 = np.asarray(ndi.maximum(di, lab2, idx2))
+                hit = np.asarray(ndi.maximum(leak, lab2, idx2)) > 0
+                span2 = np.array([max(b[0].stop - b[0].start, b[1].stop - b[1].start) if b is not None else 0
+                                  for b in ndi.find_objects(lab2)])
+                more = (far2 <= 2.0 * lim) & (hit | (span2 > 4 * lim))
+                leak |= np.isin(lab2, idx2[more])
             _, (iy, ix) = ndi.distance_transform_edt(~fill, return_indices=True)
             mid[leak, :3] = rgb[iy[leak], ix[leak]]
         # The outline ring itself, in the sources' ink and pen width, with a half-ink inner edge.
