@@ -16,7 +16,9 @@ A mix of such exemplars is rebuilt ring by ring: the mix's silhouette is
 shrunk by the mixed border width, the warped border left inside that is
 taken as part of the stroke, the outline is re-inked along the shrunk
 silhouette as for any outlined mix (:func:`~branchnb.trees.flat_art._ink_outline`),
-and the border ring is painted back outside it in the border colour.
+and the border ring is painted back outside it in the border colour. What is left of the warped
+outline inside the new ring (dotted pieces along the sides, bits at the notches where trunk meets
+crown, a band running deeper at 400 px) is repainted with the fill next to it (trees55).
 
 A sticker whose border is its only outline (a thick white ring straight round the fill) is
 rebuilt the same way without the outline step: the ring at the sources' mean width (area over
