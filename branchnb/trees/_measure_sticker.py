@@ -207,7 +207,8 @@ def main(size: int = 256, n_mix: int = 3, png: str | None = None) -> None:
             rings = np.array([_rings(v, ink, bc) for v in res[tag]])
             line.append(f"{tag}: ring {bands[:, 0].mean():.3f} ({bands[:, 0].min():.3f}) band {bands[:, 1].mean():.3f}"
                         f" ({bands[:, 1].min():.3f}) cover {rings[:, 0].mean():.3f} border {rings[:, 1].mean():.2f}"
-                        f" outline {rings[:, 2].mean():.2f} specks {np.mean([_specks(v, ink, bc) for v in res[tag]]):.1f}")
+                        f" outline {rings[:, 2].mean():.2f}"
+                        f" specks {np.mean([_specks(v, ink, bc) for v in res[tag]]):.1f}")
         ex = np.array([_rings(lib[n].image, ink, bc) for n in lib.names]).mean(0)
         line.append(f"exemplars: border {ex[1]:.2f} outline {ex[2]:.2f}")
         print("\n    ".join(line))

@@ -315,8 +315,11 @@ def _drop_band_specks(mid: np.ndarray, inner: np.ndarray, di: np.ndarray, ink: n
     a hand-drawn outline's ragged edge) took them, so 192 px mixes kept 2-18 dark dots each. The
     ring here is painted at an exact depth, so any ink deeper than ``pen_w + 1`` is no part of it.
     A piece is ink when its pixels lie on the line from the fill next to them to the ink, at
-    least :data:`SPECK_INK` of the way (anti-aliased blends of a sub-pixel pen included); one larger than ``SPECK_AREA lim**2`` or reaching deeper than the band is a
-    detail of the drawing and stays.
+    least :data:`SPECK_INK` of the way (anti-aliased blends of a sub-pixel pen included). One
+    larger than ``SPECK_AREA lim**2`` or reaching deeper than the band is a detail of the drawing
+    and stays, except a piece of at most two pens squared (``2 (pen_w + 1)**2``) within twice the
+    band: at the sources' notches (trunk into crown) the warp maps their outline deeper under the
+    mix's smoother rim.
     """
     rgb = mid[..., :3]
     body = inner & (di > pen_w + 1.0)
