@@ -5,7 +5,8 @@
 and gradient fills; round, triangle and cloud crowns; 200-1000 px), mixes them with
 ``TreeLibrary(size).variation`` with the sticker rebuild off (before) and on (after), and prints per
 library: the share of the mix's rim inside the border with the outline colour within 1 px, the border
-width (area / rim length) against the exemplars' and the outline width. Plain outlined and borderless
+width (area / rim length) against the exemplars' and the outline width, and the dark specks per mix
+(ink-coloured pieces under 12 px off the outline ring). Plain outlined and borderless
 libraries are mixed too: they must come out byte-identical.
 """
 
@@ -145,6 +146,28 @@ def _rings(img: np.ndarray, ink, border_colour) -> tuple[float, float, float]:
     return cover, bw, ow
 
 
+def _specks(img: np.ndarray, ink, border_colour) -> int:
+    """Dark (ink-coloured, within 0.3) pieces under 12 px inside the border not touching the outline
+    ring: the warped outline's remnants at the crown's notches and sides (trees55)."""
+    alpha = img[..., 3] >= 0.5
+    depth = ndi.distance_transform_edt(alpha)
+    rgb = img[..., :3]
+    near_b = alpha & (np.linalg.norm(rgb - np.asarray(border_colour), axis=2) <= 0.2)
+    lab, _ = ndi.label(near_b, structure=np.ones((3, 3), bool))
+    ids = np.unique(lab[alpha & (depth < 1.5) & near_b])
+    ring = ndi.binary_dilation(np.isin(lab, ids[ids > 0]), structure=np.ones((3, 3), bool)) & alpha
+    inner = alpha & ~ring
+    di = ndi.distance_transform_edt(inner)
+    dark = inner & (np.linalg.norm(rgb - np.asarray(ink), axis=2) <= 0.3)
+    lab, n = ndi.label(dark, structure=np.ones((3, 3), bool))
+    if not n:
+        return 0
+    idx = np.arange(1, n + 1)
+    sizes = np.asarray(ndi.sum(dark, lab, idx))
+    on = np.asarray(ndi.maximum(ndi.binary_dilation(inner & (di < 1.5), structure=np.ones((3, 3), bool)), lab, idx))
+    return int(((sizes < 12) & (on == 0)).sum())
+
+
 def _bands(img: np.ndarray, ink, border_colour, width: float) -> tuple[float, float]:
     """(share of the pixels less than ``width`` deep in the border colour, share of the 1 px band
     2 px inside the border in the ink colour): the two rings rebuilt where they belong."""
@@ -184,7 +207,8 @@ def main(size: int = 256, n_mix: int = 3, png: str | None = None) -> None:
             rings = np.array([_rings(v, ink, bc) for v in res[tag]])
             line.append(f"{tag}: ring {bands[:, 0].mean():.3f} ({bands[:, 0].min():.3f}) band {bands[:, 1].mean():.3f}"
                         f" ({bands[:, 1].min():.3f}) cover {rings[:, 0].mean():.3f} border {rings[:, 1].mean():.2f}"
-                        f" outline {rings[:, 2].mean():.2f}")
+                        f" outline {rings[:, 2].mean():.2f}"
+                        f" specks {np.mean([_specks(v, ink, bc) for v in res[tag]]):.1f}")
         ex = np.array([_rings(lib[n].image, ink, bc) for n in lib.names]).mean(0)
         line.append(f"exemplars: border {ex[1]:.2f} outline {ex[2]:.2f}")
         print("\n    ".join(line))

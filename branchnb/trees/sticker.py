@@ -16,7 +16,9 @@ A mix of such exemplars is rebuilt ring by ring: the mix's silhouette is
 shrunk by the mixed border width, the warped border left inside that is
 taken as part of the stroke, the outline is re-inked along the shrunk
 silhouette as for any outlined mix (:func:`~branchnb.trees.flat_art._ink_outline`),
-and the border ring is painted back outside it in the border colour.
+and the border ring is painted back outside it in the border colour. What is left of the warped
+outline inside the new ring (dotted pieces along the sides, bits at the notches where trunk meets
+crown, a band running deeper at 400 px) is repainted with the fill next to it (trees55).
 
 A sticker whose border is its only outline (a thick white ring straight round the fill) is
 rebuilt the same way without the outline step: the ring at the sources' mean width (area over
@@ -282,6 +284,77 @@ def _drop_warped_border(mid: np.ndarray, inner: np.ndarray, colour: np.ndarray, 
     return out
 
 
+def _fill_to_ink(image: np.ndarray, border: _StickerBorder, ink: np.ndarray, pen: float) -> float | None:
+    """How near (RGB, 2nd percentile) a sticker's fill comes to its outline's ``ink``: pixels
+    deeper than the border, the pen and 2.5 px, not in the border colour (None when there are none)."""
+    alpha = image[..., 3] >= 0.5
+    rgb = image[..., :3]
+    fill = alpha & (_edt(alpha) > border.width + pen + 2.5) & (np.linalg.norm(rgb - border.colour, axis=2) > 0.35)
+    if not fill.any():
+        return None
+    return float(np.quantile(np.linalg.norm(rgb[fill] - ink, axis=1), 0.02))
+
+
+#: Largest remnant of a warped outline (:func:`_drop_band_specks`), in squares of the band's depth.
+SPECK_AREA = 1.0
+#: ... whose pixels lie at least this share of the way from the fill next to them to the ink.
+SPECK_INK = 0.3
+
+
+def _drop_band_specks(mid: np.ndarray, inner: np.ndarray, di: np.ndarray, ink: np.ndarray,
+                      pen_w: float, lim: float) -> np.ndarray:
+    """Repaint with the fill next to them the ink-coloured pieces cut off from a rebuilt outline
+    ring and lying wholly in the band the warped rings were taken from (``di <= lim``).
+
+    Notes
+    -----
+    Beyond trees41/53 (issue 24, trees55). The warped outline, stretched along the crown's notches
+    and sides, breaks into dotted pieces 1-3 px inside the new ring, apart from the rim and from
+    each other: neither the leak repaint (pieces touching the rim or running along it) nor
+    :func:`~branchnb.trees.flat_art._drop_rim_flecks` (which spares the first 3 px past the pen as
+    a hand-drawn outline's ragged edge) took them, so 192 px mixes kept 2-18 dark dots each. The
+    ring here is painted at an exact depth, so any ink deeper than ``pen_w + 1`` is no part of it.
+    A piece is ink when its pixels lie on the line from the fill next to them to the ink, at
+    least :data:`SPECK_INK` of the way (anti-aliased blends of a sub-pixel pen included). One
+    larger than ``SPECK_AREA lim**2`` or reaching deeper than the band is a detail of the drawing
+    and stays, except a piece of at most two pens squared (``2 (pen_w + 1)**2``) within twice the
+    band: at the sources' notches (trunk into crown) the warp maps their outline deeper under the
+    mix's smoother rim.
+    """
+    rgb = mid[..., :3]
+    body = inner & (di > pen_w + 1.0)
+    to_ink = np.linalg.norm(rgb - ink, axis=2)
+    # the fill: off the ink and off the blends round it
+    fillish = body & ~ndi.binary_dilation(to_ink <= 0.35, structure=np.ones((3, 3), bool))
+    if not fillish.any():
+        return mid
+    _, (iy, ix) = ndi.distance_transform_edt(~fillish, return_indices=True)
+    near = rgb[iy, ix]
+    # ... a third of the way or more from the fill to the ink, on that line
+    d = ink - near
+    t = ((rgb - near) * d).sum(axis=2) / np.maximum((d * d).sum(axis=2), 1e-6)
+    # (the line runs on past the ink: the measured ink is a median with its blends, the pen's
+    # core is darker still; 400 px mixes kept black teeth of the warped band)
+    off = np.linalg.norm(rgb - (near + np.maximum(t, 0.0)[..., None] * d), axis=2)
+    dark = body & (t >= SPECK_INK) & (off <= 0.1)
+    lab, n = ndi.label(dark, structure=np.ones((3, 3), bool))
+    if not n:
+        return mid
+    idx = np.arange(1, n + 1)
+    far = np.asarray(ndi.maximum(di, lab, idx))
+    area = np.asarray(ndi.sum(dark, lab, idx))
+    # A notch of the sources (where trunk meets crown) maps their outline deeper under the mix's
+    # smoother rim: pieces a pen across reach twice the band.
+    speck = ((far <= lim) & (area <= SPECK_AREA * lim * lim)) | \
+        ((far <= 2.0 * lim) & (area <= 2.0 * (pen_w + 1.0) ** 2))
+    if not speck.any():
+        return mid
+    drop = np.isin(lab, idx[speck])
+    out = mid.copy()
+    out[drop, :3] = near[drop]
+    return out
+
+
 def _sticker_mix(image: np.ndarray, exemplars: Sequence, cw: np.ndarray, weights: np.ndarray,
                  sources: np.ndarray | None = None) -> np.ndarray | None:
     """Rebuild a mix of sticker trees ring by ring (None when they are not stickers).
@@ -359,8 +432,13 @@ def _sticker_mix(image: np.ndarray, exemplars: Sequence, cw: np.ndarray, weights
         # lies 0.38 from a grey ink and 0.4 from a navy one; taken as ink it took the crown's colour).
         to_ink = np.linalg.norm(rgb - ink.ink, axis=2)
         to_border = np.linalg.norm(rgb - colour, axis=2)
-        deep = inner & (di > ink_w + 2.5) & (to_border > 0.35)
-        tol = min(0.3, 0.5 * float(np.quantile(to_ink[deep], 0.02))) if deep.any() else 0.3
+        # The fills' nearest approach to the ink is read on the sources (inside their outlines):
+        # read on the mix, where a warped outline band 10-25 px wide (400 px stickers) is 2 % of
+        # the crown or more, it made every ink pixel "fill" and the band stayed (trees55).
+        near_fill = [_fill_to_ink(e.image, b, o.ink, o.width) for e, b, o in zip(exemplars, borders, outl, strict=True)
+                     if b is not None and o.outlined]
+        near_fill = [q for q in near_fill if q is not None]
+        tol = min(0.3, 0.5 * min(near_fill)) if near_fill else 0.3
         # ... or an anti-aliased blend of the two rings (on the line from ink to border colour).
         d = colour - ink.ink
         t = np.clip(((rgb - ink.ink) @ d) / max(float(d @ d), 1e-6), 0.0, 1.0)
@@ -376,6 +454,18 @@ def _sticker_mix(image: np.ndarray, exemplars: Sequence, cw: np.ndarray, weights
             along = [i + 1 for i, b in enumerate(boxes)
                      if b is not None and max(b[0].stop - b[0].start, b[1].stop - b[1].start) > 4 * lim]
             leak = np.isin(lab, np.union1d(touch[touch > 0], along))
+            # A warped outline band running deeper than the band (400 px mixes: 10-25 px) is followed
+            # to its end, and a piece of it wholly inside twice the band and running along the rim
+            # goes too; a line of the drawing reaching deeper stays (trees55).
+            lab2, n2 = ndi.label(layer & (di <= 3.0 * lim), structure=np.ones((3, 3), bool))
+            if n2:
+                idx2 = np.arange(1, n2 + 1)
+                far2 = np.asarray(ndi.maximum(di, lab2, idx2))
+                hit = np.asarray(ndi.maximum(leak, lab2, idx2)) > 0
+                span2 = np.array([max(b[0].stop - b[0].start, b[1].stop - b[1].start) if b is not None else 0
+                                  for b in ndi.find_objects(lab2)])
+                more = (far2 <= 2.0 * lim) & (hit | (span2 > 4 * lim))
+                leak |= np.isin(lab2, idx2[more])
             _, (iy, ix) = ndi.distance_transform_edt(~fill, return_indices=True)
             mid[leak, :3] = rgb[iy[leak], ix[leak]]
         # The outline ring itself, in the sources' ink and pen width, with a half-ink inner edge.
@@ -385,6 +475,7 @@ def _sticker_mix(image: np.ndarray, exemplars: Sequence, cw: np.ndarray, weights
         mid[ring_px, :3] = (q * ink.ink + (1.0 - q) * mid[..., :3])[ring_px]
         # Pieces of the warped outline deeper than that (at the crown's notches) are specks.
         mid = _drop_rim_flecks(mid, ink.ink, ink_w)
+        mid = _drop_band_specks(mid, inner, di, ink.ink, pen_w, lim)
     else:
         mid = _drop_warped_border(mid, inner, colour, width)
     res = out

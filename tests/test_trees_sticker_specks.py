@@ -1,0 +1,71 @@
+"""Sticker mixes (dark outline inside a die-cut border): no dark specks left of the warped outline
+inside the rebuilt ring, and no warped outline band left inside a 400 px crown (issue 24, trees55)."""
+
+import numpy as np
+import pytest
+from scipy import ndimage as ndi
+
+from branchnb.trees import TreeLibrary
+from branchnb.trees._measure_sticker import _BORDERS, _INKS, sticker_tree
+
+
+def _inner(img, border_colour):
+    """The mix without its border ring (and the anti-aliased step next to it), and its depth."""
+    alpha = img[..., 3] >= 0.5
+    depth = ndi.distance_transform_edt(alpha)
+    rgb = img[..., :3]
+    near_b = alpha & (np.linalg.norm(rgb - np.asarray(border_colour), axis=2) <= 0.2)
+    lab, _ = ndi.label(near_b, structure=np.ones((3, 3), bool))
+    ids = np.unique(lab[alpha & (depth < 1.5) & near_b])
+    ring = ndi.binary_dilation(np.isin(lab, ids[ids > 0]), structure=np.ones((3, 3), bool)) & alpha
+    inner = alpha & ~ring
+    return inner, ndi.distance_transform_edt(inner)
+
+
+def _specks(img, ink, border_colour):
+    """Dark (ink-coloured) pieces under 12 px not touching the outline ring."""
+    inner, di = _inner(img, border_colour)
+    dark = inner & (np.linalg.norm(img[..., :3] - np.asarray(ink), axis=2) <= 0.3)
+    lab, n = ndi.label(dark, structure=np.ones((3, 3), bool))
+    if not n:
+        return 0
+    idx = np.arange(1, n + 1)
+    sizes = np.asarray(ndi.sum(dark, lab, idx))
+    ring = ndi.binary_dilation(inner & (di < 1.5), structure=np.ones((3, 3), bool))
+    on = np.asarray(ndi.maximum(ring, lab, idx)) > 0
+    return int(((sizes < 12) & ~on).sum())
+
+
+def _library(size, spec_seed, border, outline, bc, ink, fills, work):
+    lib = TreeLibrary(size=work)
+    for s in range(3):
+        lib.add(sticker_tree(size, spec_seed + s, border=border, outline=outline, border_colour=_BORDERS[bc],
+                             ink=_INKS[ink], fill=fills[s % len(fills)]), f"t{s}")
+    return lib
+
+
+@pytest.mark.parametrize("seed", [0, 6])
+def test_no_specks_inside_the_rebuilt_ring_at_192(seed):
+    # 400 px stickers (8 px border, 3 px pen) at 192 px: the warped outline broke into dotted pieces
+    # 1-3 px inside the new ring (main: 26 and 29 specks on these seeds).
+    lib = _library(400, 0, 8, 3, 0, 0, ["dots", "stripes", "flat"], 192)
+    img = np.asarray(lib.variation(rng=seed).image, np.float32)
+    assert _specks(img, _INKS[0], _BORDERS[0]) <= 8
+    # ... and the rebuilt ring is there: ink 1-2 px inside the border on most of the rim
+    inner, di = _inner(img, _BORDERS[0])
+    band = inner & (di < 1.5)
+    ink = np.linalg.norm(img[..., :3] - np.asarray(_INKS[0]), axis=2) <= 0.35
+    near = ndi.binary_dilation(ink & inner, structure=np.ones((3, 3), bool))
+    assert float(near[band].mean()) >= 0.8
+
+
+def test_warped_outline_band_goes_at_400():
+    # 300 px stickers (2 px border, 2 px pen, navy ink) at 400 px: the warped outline was left as a
+    # saw-toothed band 10-25 px wide inside the crown (read as fill: it was 2 % of the mix's crown).
+    lib = _library(300, 40, 2, 2, 1, 1, ["dots", "stripes", "flat"], 400)
+    img = np.asarray(lib.variation(rng=3).image, np.float32)
+    inner, di = _inner(img, _BORDERS[1])
+    ink = inner & (np.linalg.norm(img[..., :3] - np.asarray(_INKS[1]), axis=2) <= 0.3)
+    deep = inner & (di > 6.0) & (di <= 30.0)
+    assert float(ink[deep].mean()) <= 0.02
+    assert _specks(img, _INKS[1], _BORDERS[1]) <= 20
