@@ -31,7 +31,7 @@ NOISE_PX = 0.6
 #: test_branching_delta_tail::test_fan0... (a fan with no channel on one side, 0.0 < 0.2).
 #: test_branching_structure's regrown roots passes. With it on, a 256 px zig-zag keeps 31-33 deg of
 #: its 33-34 deg turn per 5 px (15-17 off), see the module notes.
-KEEP_CORNERS = False
+KEEP_CORNERS = True
 #: Width of the narrow Gaussian used at corners, as a share of the wide one (4 px -> 1.5 px: still removes
 #: the one-pixel steps of a diagonal; a bolt's corner keeps its turn).
 NARROW_SHARE = 0.375
