@@ -60,14 +60,15 @@ FAN_TRAPPED = True
 #: beyond the paper; :func:`.empty_ground._line_domain`): a strand turns to stay in its band instead of
 #: ending at its edge (in the band alone the border vines came out 2-3.5 x as many branches, half as long)
 LEAVE_BAND = 1e-3
-#: Score factor of a child's candidate head whose copied vertices leave the frame or domain before its end
-#: (issue 23, beyond the paper, which tests the first vertex only): the child is cut there, a bare head of
-#: 1-3 elements. Such heads were rare while traced paths were rounded; with their corners kept
-#: (:data:`.path_smoothing.KEEP_CORNERS`) a parent runs along the frame more often, and half its mirrored
+#: Score factor of a child's candidate head whose copied vertices leave the frame, domain or frame band
+#: before its end (issue 23, beyond the paper, which tests the first vertex only): the child would be cut
+#: there, a bare head of 1-3 elements, so such a head is never drawn (0: no child starts there when every
+#: head is such). Rare while traced paths were rounded; with their corners kept
+#: (:data:`.path_smoothing.KEEP_CORNERS`) parents run along the frame more often, and half their mirrored
 #: candidates head out of it: the 300 x 450 crack of tests/test_branching_unborn.py grew 3 frame stubs in a
 #: seed along a parent 6 px off the bottom. Not in a delta or at a shore, where a channel heads for the sea
 #: beyond its domain.
-LEAVE_FRAME = 1e-3
+LEAVE_FRAME = 0.0
 #: Elements (of ``h`` px) straight on from a child's head end that must lie in the frame / domain too
 #: (:data:`LEAVE_FRAME`): a head ending at the frame heading out is cut at its first Markov step.
 LEAVE_AHEAD = 2
@@ -817,13 +818,11 @@ class _Starts:
             dom is not None, st._head, st._next, st._seg, st.p0, st.p1, st.n, st.cell, self._cap(), int(p.c), 1e-9,
             r_scale)
         f = self._leave_factor(x0, new, n, score)
-        if not np.isscalar(f) and (f < 1.0).any():   # the whole head in the frame (LEAVE_FRAME): ranked again
+        if not np.isscalar(f) and (f < 1.0).any():   # the whole head in the frame (LEAVE_FRAME): chosen again
             score = score * f
             chosen = _kernels.ranked_free(score, np.asarray(x0, np.float64), np.ascontiguousarray(new, np.float64),
                                           np.asarray(n + 1, np.int64), st._head, st._next, st._seg, st.p0, st.p1,
                                           st.n, st.cell, self._cap(), int(p.c), dens is not None, 1e-9)
-            if (f[chosen] < 1.0).all():
-                chosen = chosen[:0]   # every head left to draw would be a bare head at the frame: none
         j = self._draw(score, chosen.tolist())
         if j is None:
             if sub is not None and self._room_around(x0, length):

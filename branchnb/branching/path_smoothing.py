@@ -18,19 +18,15 @@ from scipy import ndimage as ndi
 #: count as staircase: pixel centres lie within half a pixel of a digital straight line, the skeleton of a
 #: line of varying width wobbles a little more.
 NOISE_PX = 0.6
-#: Whether :func:`~.skeleton_tree.skeleton_to_structure` smooths with :func:`keep_corners_smooth` (True)
-#: or with the one wide Gaussian of the paper-era extraction (False, the default for now). Off by
-#: default because on it moves downstream synthesis figures measured on rounded paths (branching106,
-#: per test with it on): tests/test_branching_unborn.py's crack grows bare heads out of the frame
-#: (seeds 0-11: 7 frame stubs + 2 inside vs 1; a real regression: dropping heads that left the domain
-#: before any Markov step mends it but breaks test_branching_thin_children's partial crack, 0.64 < 0.7);
-#: a 96 px map's rivers hug the coast they already followed (coast share 0.24 -> 0.27, same branches,
-#: figure-only); the sub-pixel bolt's relit/unrelit glow ratio 0.93 -> 0.82 (relit glow kept, 1.76 ->
-#: 1.75 px, unrelit reference widened towards the example's 2.24 px: 1.90 -> 2.05, figure-only); and
-#: two not known before: test_branching_frame_bolt_bearing (bearing dev 18.5 > 15 deg) and
-#: test_branching_delta_tail::test_fan0... (a fan with no channel on one side, 0.0 < 0.2).
-#: test_branching_structure's regrown roots passes. With it on, a 256 px zig-zag keeps 31-33 deg of
-#: its 33-34 deg turn per 5 px (15-17 off), see the module notes.
+#: Whether :func:`~.skeleton_tree.skeleton_to_structure` smooths with :func:`keep_corners_smooth` (True,
+#: the default since branching107) or with the one wide Gaussian of the paper-era extraction (False). On
+#: since the synthesis mends what sharper paths exposed (branching106 found them, branching107 fixed them):
+#: children no longer take a head that leaves the frame (``branch_starts.LEAVE_FRAME``: a crack's frame
+#: stubs, tests/test_branching_unborn.py), junction disks stay smoothed wide (``calm``: a delta's trunk
+#: kinked at its start and all channels left on one side, tests/test_branching_delta_tail.py's fan0), bare
+#: heads whose first step the density refused are dropped in every tree (``_Filling._drop_heads``). Figures
+#: that moved for known reasons: see the commit messages of branching107. With it on, a 256 px zig-zag keeps
+#: 31-33 deg of its 33-34 deg turn per 5 px (15-17 off), see the module notes.
 KEEP_CORNERS = True
 #: Width of the narrow Gaussian used at corners, as a share of the wide one (4 px -> 1.5 px: still removes
 #: the one-pixel steps of a diagonal; a bolt's corner keeps its turn).
