@@ -1,7 +1,7 @@
 """Extraction keeps real corners (issue 23, branching101): jagged bolts, cracks and zig-zag lines keep
 their turning statistics while straight and smooth lines stay free of the pixel staircase
 (:func:`branchnb.branching.path_smoothing.keep_corners_smooth`; in the extraction while
-``path_smoothing.KEEP_CORNERS`` is on, the default since branching107)."""
+``path_smoothing.KEEP_CORNERS`` is on, off by default for now)."""
 import numpy as np
 from skimage.draw import line as draw_line
 
