@@ -19,15 +19,16 @@ from scipy import ndimage as ndi
 #: line of varying width wobbles a little more.
 NOISE_PX = 0.6
 #: Whether :func:`~.skeleton_tree.skeleton_to_structure` smooths with :func:`keep_corners_smooth` (True)
-#: or with the one wide Gaussian of the paper-era extraction (False, the default for now). Mended with it
-#: on (branching107): children no longer draw a head the frame would cut (``branch_starts.LEAVE_FRAME``;
+#: or with the one wide Gaussian of the paper-era extraction (False, the default for now). Mended for it
+#: (branching107; the first two switches belong on with it: LEAVE_FRAME 0, STILLBORN_EVERYWHERE True):
+#: children no longer draw a head the frame would cut (``branch_starts.LEAVE_FRAME``;
 #: tests/test_branching_unborn.py's crack grew frame stubs, seeds 0-2 [1, 0, 3] -> 0), junction disks stay
 #: smoothed wide (``calm``: a delta's trunk copied a junction kink and every channel left on one side,
 #: tests/test_branching_delta_tail.py's fan0, side share seeds 0-5 down to 0.0 -> seeds 0-3 0.24-0.50), heads whose
-#: first Markov step the density refused are dropped in every tree (``_Filling._drop_heads``).
+#: first Markov step the density refused are dropped in every tree (``filling.STILLBORN_EVERYWHERE``).
 #: test_branching_frame_bolt_bearing's 256 px bolt then runs at 67-68 deg, the bearing of the example's own
 #: traced roots (67.0 / 71.2) but 17.8-19 deg off the drawn roots' mean (bound 15; rounded, seeds 0-9 reach
-#: 24.8 as well). Still failing with it on (branching107, unexamined): test_branching_image_style's mud160
+#: 24.8 as well). Still failing with all three on (branching107, unexamined): test_branching_image_style's mud160
 #: crack contrast / connection and its 96 px map coast share (figure-only, branching106), radius_fidelity's
 #: thick trunks and children, test_branching_structure's regrown roots (the frame factor off, a single
 #: attempt walks out in 1 of 6 seeds only: 2 x 12390 > 14721). With it on, a 256 px zig-zag keeps 31-33
