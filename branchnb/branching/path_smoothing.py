@@ -28,10 +28,12 @@ NOISE_PX = 0.6
 #: first Markov step the density refused are dropped in every tree (``filling.STILLBORN_EVERYWHERE``).
 #: test_branching_frame_bolt_bearing's 256 px bolt then runs at 67-68 deg, the bearing of the example's own
 #: traced roots (67.0 / 71.2) but 17.8-19 deg off the drawn roots' mean (bound 15; rounded, seeds 0-9 reach
-#: 24.8 as well). Still failing with all three on (branching107, unexamined): test_branching_image_style's mud160
-#: crack contrast / connection and its 96 px map coast share (figure-only, branching106), radius_fidelity's
-#: thick trunks and children, test_branching_structure's regrown roots (the frame factor off, a single
-#: attempt walks out in 1 of 6 seeds only: 2 x 12390 > 14721). With it on, a 256 px zig-zag keeps 31-33
+#: 24.8 as well). Still failing with all three on (branching107, unexamined): image_style's mud160 crack
+#: and 96 px map coast (figure-only, branching106), radius_fidelity's thick trunks, structure's regrown
+#: roots, style's delta bends, line_art's 128 px trunk colour, band_strands' core, child_start_kernels'
+#: plain == general path (LEAVE_FRAME's re-ranking), delta_axis fan55, delta_balance, delta_forks [0].
+#: With the two switches on and corners rounded: mud160, thick trunks, regrown roots and thin_children's
+#: partial crack fail, so those come from the switches, not the corners. With it on, a 256 px zig-zag keeps 31-33
 #: deg of its 33-34 deg turn per 5 px (15-17 off), see the module notes.
 KEEP_CORNERS = False
 #: Width of the narrow Gaussian used at corners, as a share of the wide one (4 px -> 1.5 px: still removes
