@@ -19,18 +19,22 @@ from scipy import ndimage as ndi
 #: line of varying width wobbles a little more.
 NOISE_PX = 0.6
 #: Whether :func:`~.skeleton_tree.skeleton_to_structure` smooths with :func:`keep_corners_smooth` (True)
-#: or with the one wide Gaussian of the paper-era extraction (False, the default for now). Off by
-#: default because on it moves downstream synthesis figures measured on rounded paths (branching106,
-#: per test with it on): tests/test_branching_unborn.py's crack grows bare heads out of the frame
-#: (seeds 0-11: 7 frame stubs + 2 inside vs 1; a real regression: dropping heads that left the domain
-#: before any Markov step mends it but breaks test_branching_thin_children's partial crack, 0.64 < 0.7);
-#: a 96 px map's rivers hug the coast they already followed (coast share 0.24 -> 0.27, same branches,
-#: figure-only); the sub-pixel bolt's relit/unrelit glow ratio 0.93 -> 0.82 (relit glow kept, 1.76 ->
-#: 1.75 px, unrelit reference widened towards the example's 2.24 px: 1.90 -> 2.05, figure-only); and
-#: two not known before: test_branching_frame_bolt_bearing (bearing dev 18.5 > 15 deg) and
-#: test_branching_delta_tail::test_fan0... (a fan with no channel on one side, 0.0 < 0.2).
-#: test_branching_structure's regrown roots passes. With it on, a 256 px zig-zag keeps 31-33 deg of
-#: its 33-34 deg turn per 5 px (15-17 off), see the module notes.
+#: or with the one wide Gaussian of the paper-era extraction (False, the default for now). Mended for it
+#: (branching107; the first two switches belong on with it: LEAVE_FRAME 0, STILLBORN_EVERYWHERE True):
+#: children no longer draw a head the frame would cut (``branch_starts.LEAVE_FRAME``;
+#: tests/test_branching_unborn.py's crack grew frame stubs, seeds 0-2 [1, 0, 3] -> 0), junction disks stay
+#: smoothed wide (``calm``: a delta's trunk copied a junction kink and every channel left on one side,
+#: tests/test_branching_delta_tail.py's fan0, side share seeds 0-5 down to 0.0 -> seeds 0-3 0.24-0.50), heads whose
+#: first Markov step the density refused are dropped in every tree (``filling.STILLBORN_EVERYWHERE``).
+#: test_branching_frame_bolt_bearing's 256 px bolt then runs at 67-68 deg, the bearing of the example's own
+#: traced roots (67.0 / 71.2) but 17.8-19 deg off the drawn roots' mean (bound 15; rounded, seeds 0-9 reach
+#: 24.8 as well). Still failing with all three on (branching107, unexamined): image_style's mud160 crack
+#: and 96 px map coast (figure-only, branching106), radius_fidelity's thick trunks, structure's regrown
+#: roots, style's delta bends, line_art's 128 px trunk colour, band_strands' core, child_start_kernels'
+#: plain == general path (LEAVE_FRAME's re-ranking), delta_axis fan55, delta_balance, delta_forks [0].
+#: With the two switches on and corners rounded: mud160, thick trunks, regrown roots and thin_children's
+#: partial crack fail, so those come from the switches, not the corners. With it on, a 256 px zig-zag keeps 31-33
+#: deg of its 33-34 deg turn per 5 px (15-17 off), see the module notes.
 KEEP_CORNERS = False
 #: Width of the narrow Gaussian used at corners, as a share of the wide one (4 px -> 1.5 px: still removes
 #: the one-pixel steps of a diagonal; a bolt's corner keeps its turn).
@@ -38,7 +42,7 @@ NARROW_SHARE = 0.375
 
 
 def keep_corners_smooth(pts: np.ndarray, sigma: float, *, noise: float = NOISE_PX,
-                        narrow_share: float = NARROW_SHARE) -> np.ndarray:
+                        narrow_share: float = NARROW_SHARE, calm: np.ndarray | None = None) -> np.ndarray:
     """Smooth a pixel path with a Gaussian of ``sigma`` samples, narrower where it has real corners.
 
     Parameters
@@ -51,6 +55,9 @@ def keep_corners_smooth(pts: np.ndarray, sigma: float, *, noise: float = NOISE_P
         Pixels the path may lie off its wide-smoothed curve (within ``sigma`` along it) as pixel noise.
     narrow_share : float, default NARROW_SHARE
         The narrow Gaussian used where the path leaves that band, as a share of ``sigma``.
+    calm : (N,) bool ndarray, optional
+        Samples that are no corner whatever their offset (within a junction's disk, see Notes); the wide
+        Gaussian is kept there and ``sigma`` samples around.
 
     Returns
     -------
@@ -67,6 +74,13 @@ def keep_corners_smooth(pts: np.ndarray, sigma: float, *, noise: float = NOISE_P
     jag (0.56 px) is partly kept, a 30 deg one (0.84 px) mostly, a 45 deg one wholly. Smooth
     lines (rivers, vessels) stay within the band except in bends tighter than about ``sigma**2 /
     (2 noise)`` px of radius (13 px for 4 px), which the narrow Gaussian follows better anyway.
+
+    A child's skeleton path starts at the junction's centre and bends from its parent's centre line to
+    its own within about the parent's radius: a bend of the skeleton at the junction, not of the line
+    (the Y of a 300 px delta's trunk and channels: 28 and 32 deg kinks on the channels' second samples,
+    15 deg with the one wide Gaussian). Kept, synthesis copied them into new branches' heads (a delta's
+    trunk started with a kink and leaned 17 deg to one side, all its channels on the other): ``calm``
+    leaves those samples to the wide Gaussian.
     """
     p = np.asarray(pts, np.float64)
     wide = ndi.gaussian_filter1d(p, sigma, axis=0, mode="nearest")
@@ -79,6 +93,8 @@ def keep_corners_smooth(pts: np.ndarray, sigma: float, *, noise: float = NOISE_P
         reach = max(1, int(round(sigma)))
         off_near = ndi.maximum_filter1d(off, 2 * reach + 1, mode="nearest")
         w = np.clip((off_near - noise) / noise, 0.0, 1.0)
+        if calm is not None and np.any(calm):
+            w[ndi.maximum_filter1d(np.asarray(calm, bool).astype(np.uint8), 2 * reach + 1) > 0] = 0.0
         if not w.any():
             out = wide
         else:

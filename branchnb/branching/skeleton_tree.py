@@ -450,12 +450,17 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
     # Build branches in creation order; children prepend their furcation node.
     new_index: dict[int, int] = {}
     built: list[Branch] = []
+    attach: dict[int, list[int]] = {}
+    for _path, par, pvx in paths:
+        if par is not None:
+            attach.setdefault(par, []).append(pvx)
     for bi, (path, par, pvx) in enumerate(paths):
         nodes = path if par is None else [paths[par][0][pvx]] + path
         pts = pts_full[nodes]
         r = r_full[nodes]
         if par is not None and par not in new_index:
             continue
+        first = 0
         if par is not None and len(nodes) > 2:
             # The distance transform near the junction measures the parent:
             # use the child's own radius from one parent radius onwards.
@@ -467,7 +472,15 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
             r = r.copy()
             r[:first] = r[first]
         if len(pts) >= 3 and smooth * scale > _NO_BLUR:
-            pts = _smooth_pixels(pts, smooth * scale, NOISE_PX / scale)
+            # within a junction's disk the skeleton bends from one line's centre to another's: no corner
+            calm = np.zeros(len(pts), bool)
+            calm[:first] = True
+            if attach.get(bi):
+                arc = arc_length(pts)
+                for k in attach[bi]:
+                    k += par is not None   # a child's points start with its furcation node
+                    calm |= np.abs(arc - arc[k]) < r[k] + 1.0
+            pts = _smooth_pixels(pts, smooth * scale, NOISE_PX / scale, calm=calm)
         if len(r) >= 3 and smooth_radius * scale > _NO_BLUR:
             r = _median_then_gauss(r, smooth_radius * scale)
         length = polyline_length(pts)
@@ -524,13 +537,13 @@ def _cycle_joins(g, pred, dist, paths, new_index, built, pts_full, r_full, min_l
 _NO_BLUR = 1e-3
 
 
-def _smooth_pixels(pts: np.ndarray, sigma: float, noise: float) -> np.ndarray:
+def _smooth_pixels(pts: np.ndarray, sigma: float, noise: float, calm=None) -> np.ndarray:
     """A pixel path smoothed over ``sigma`` samples, its ends kept (corners too when
-    :data:`.path_smoothing.KEEP_CORNERS`)."""
+    :data:`.path_smoothing.KEEP_CORNERS`, except at its ``calm`` samples)."""
     from . import path_smoothing
 
     if path_smoothing.KEEP_CORNERS:
-        return keep_corners_smooth(pts, sigma, noise=noise)
+        return keep_corners_smooth(pts, sigma, noise=noise, calm=calm)
     sm = ndi.gaussian_filter1d(pts, sigma, axis=0, mode="nearest")
     sm[0], sm[-1] = pts[0], pts[-1]
     return sm
