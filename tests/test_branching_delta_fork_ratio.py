@@ -4,7 +4,7 @@
 channels as thick as their trunk: on a bird-foot delta whose children are drawn 0.55 x their parent
 (``delta_tree_mask``, 512 px, mask seed 5) the synthesized children started at a median 0.85 x their parent's
 radius at the fork, up to 1.84 x once the parent had thinned below earlier forks (seeds 0-2).
-``branch_starts.fork_ratios`` measures the example's ratios; ``_channel_start`` draws one,
+``branch_starts.fork_ratios`` measures the example's ratios; ``_channel_start`` takes their median,
 ``growth_bounds._thin_below_forks`` holds it once the parent is thinned.
 """
 
