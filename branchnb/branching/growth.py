@@ -535,7 +535,8 @@ class _Grower(_FrameRules, _Selection, _Generations, _Starts, _Filling):
         radii = [np.asarray(st.radii, np.float64) for st in self.branches]
         if self.drain is not None:   # a delta's channels narrow below their forks (_thin_below_forks)
             radii = _thin_below_forks(radii, [st.parent for st in self.branches],
-                                      [st.parent_vertex for st in self.branches])
+                                      [st.parent_vertex for st in self.branches],
+                                      [st.fork_ratio for st in self.branches])
         out = []
         for st, r in zip(self.branches, radii):
             out.append(Branch(np.asarray(st.points, np.float64), r, st.parent, st.parent_vertex))
