@@ -112,6 +112,16 @@ def fork_ratios(example) -> np.ndarray:
     (0, 1]. Measured on the head radii alone the ratios came out 0.85 (median) against 0.55 drawn on a
     bird-foot delta mask, the junction blob widening the child's first vertices.
 
+    Parameters
+    ----------
+    example : Structure
+        The example structure (branches with parents, parent vertices and radii).
+
+    Returns
+    -------
+    (n,) float ndarray
+        One ratio per child of the example that has a parent vertex (empty when none).
+
     Examples
     --------
     >>> from branchnb.core.structure import Branch, Structure
