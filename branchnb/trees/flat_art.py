@@ -265,6 +265,31 @@ def _source_pixel(exemplar: Exemplar) -> float:
     return max(1.0, float(getattr(norm, "scale", 1.0)))
 
 
+def _exemplar_straight_trunk(exemplar: Exemplar) -> bool:
+    """Whether an exemplar's trunk has straight sides (:func:`~branchnb.trees.trunk_lines.trunk_edges`,
+    :data:`~branchnb.trees.trunk_lines.STRAIGHT_SHARE` of its free rows within a pixel of its
+    lines; cached on it)."""
+    if "straight_trunk" not in exemplar._cages:
+        from .trunk_lines import STRAIGHT_SHARE, trunk_edges
+
+        e = trunk_edges(exemplar.image, exemplar.trunk)
+        exemplar._cages["straight_trunk"] = e is not None and e.share >= STRAIGHT_SHARE
+    return exemplar._cages["straight_trunk"]
+
+
+def _straight_trunk_mix(image: np.ndarray, exemplars: Sequence[Exemplar], sources: np.ndarray,
+                        trunk: np.ndarray, grains: Sequence[float]):
+    """A hard-edged mix on a 1-px grid whose sources all stand on straight trunks, its trunk's
+    sides redrawn straight (beyond the paper, :mod:`~branchnb.trees.trunk_lines`):
+    ``(image, sources, trunk)``; unchanged otherwise (an art grid of blocks keeps its steps)."""
+    from .trunk_lines import straighten_trunk
+
+    if max(grains) > 1.5 or not all(_exemplar_straight_trunk(e) for e in exemplars):
+        return image, sources, trunk
+    out, tr, src = straighten_trunk(image, trunk, sources=sources)
+    return out, src, tr
+
+
 def _exemplar_facets(exemplar: Exemplar):
     """:func:`~branchnb.trees.lowpoly.facet_palette` of an exemplar's crown (cached on it)."""
     if "facets" not in exemplar._cages:

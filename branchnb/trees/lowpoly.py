@@ -113,6 +113,12 @@ REACH = 0.015
 #: 0.25-0.55, curved fills (cel shading, clumps, cartoon crowns) 0.52-1.1 (each outline on its own,
 #: a region's anti-aliased steps included).
 STRAIGHT_RESIDUAL = 0.5
+#: ... or at most :data:`LOOSE_RESIDUAL` when the outlines of all the crown's regions that are
+#: no small convex polygon stand on average (weighted by length) at most :data:`POOLED_RESIDUAL`
+#: off (trees54): low-poly crowns of 96-200 px pool to 0.3-0.72 (median 0.43), curved fills
+#: (cel shading, clumps, dotted grounds) to 0.5-1.1 (dotted grounds fail the corner gain).
+POOLED_RESIDUAL = 0.55
+LOOSE_RESIDUAL = 0.8
 #: Douglas-Peucker tolerance (source pixels) of a straight-edged region's outlines.
 STRAIGHT_TOL = 3.0
 #: ... and its corners must not multiply when the tolerance is halved: a curve approximated by
@@ -269,25 +275,38 @@ def _polygonal(mask: np.ndarray) -> bool:
     return cv2.contourArea(pts.astype(np.float32)) >= FACET_SOLIDITY * max(cv2.contourArea(hull), 1e-9)
 
 
-def _straight_edged(mask: np.ndarray, pixel: float = 1.0) -> bool:
-    """Whether every outline of a region (outer and holes) is a union of straight segments
-    (beyond the paper; :data:`STRAIGHT_RESIDUAL`, :data:`STRAIGHT_GAIN`). ``pixel`` is a source
-    pixel's size in image pixels (an enlarged source's stair-steps are that large)."""
+def _outline_stats(mask: np.ndarray, pixel: float = 1.0) -> list:
+    """For every outline (outer and holes, 8 points or more) of a region: its length, its mean
+    distance from its Douglas-Peucker polygon at :data:`STRAIGHT_TOL` ``pixel`` and its corner
+    counts at half and 1.5 times that tolerance."""
     cnts, _ = cv2.findContours(mask.astype(np.uint8), cv2.RETR_CCOMP, cv2.CHAIN_APPROX_NONE)
-    n = fine = coarse = 0
+    out = []
     for c in cnts:
         if len(c) < 8:
             continue
         q = cv2.approxPolyDP(c, STRAIGHT_TOL * pixel, True)
         d = [abs(cv2.pointPolygonTest(q, (float(x), float(y)), True)) for x, y in c[:, 0]]
-        # every outline on its own: round dots in a flat ground are holes, but no straight ones
-        if np.mean(d) > STRAIGHT_RESIDUAL * pixel:
-            return False
-        n += 1
-        fine += len(cv2.approxPolyDP(c, 0.5 * STRAIGHT_TOL * pixel, True))
-        coarse += len(cv2.approxPolyDP(c, 1.5 * STRAIGHT_TOL * pixel, True))
+        out.append((len(c), float(np.mean(d)), len(cv2.approxPolyDP(c, 0.5 * STRAIGHT_TOL * pixel, True)),
+                    len(cv2.approxPolyDP(c, 1.5 * STRAIGHT_TOL * pixel, True))))
+    return out
+
+
+def _straight_edged(mask: np.ndarray, pixel: float = 1.0, residual: float = STRAIGHT_RESIDUAL,
+                    stats: list | None = None) -> bool:
+    """Whether every outline of a region (outer and holes) is a union of straight segments
+    (beyond the paper; :data:`STRAIGHT_RESIDUAL`, :data:`STRAIGHT_GAIN`). ``pixel`` is a source
+    pixel's size in image pixels (an enlarged source's stair-steps are that large); ``residual``
+    the most mean distance (in ``pixel``) of an outline from its polygon; ``stats`` the region's
+    :func:`_outline_stats` when known."""
+    if stats is None:
+        stats = _outline_stats(mask, pixel)
+    # every outline on its own: round dots in a flat ground are holes, but no straight ones
+    if not stats or any(m > residual * pixel for _, m, _, _ in stats):
+        return False
+    fine = sum(f for _, _, f, _ in stats)
+    coarse = sum(c for _, _, _, c in stats)
     # one corner of slack per outline: a small region's few corners (4 -> 7) are no curve's gain
-    return n > 0 and fine <= STRAIGHT_GAIN * coarse + n
+    return fine <= STRAIGHT_GAIN * coarse + len(stats)
 
 
 def facet_palette(image, trunk=None, *, pixel: float = 1.0) -> np.ndarray | None:
@@ -365,9 +384,21 @@ def facet_palette(image, trunk=None, *, pixel: float = 1.0) -> np.ndarray | None
     # off the chord that a fixed pixel tolerance would take for a curve's)
     ys, xs = np.nonzero(crown)
     unit = max(float(pixel), max(np.ptp(ys), np.ptp(xs)) / STRAIGHT_REF)
+    stats = {}
     for j, sl in enumerate(ndi.find_objects(whole), 1):
         if sl is not None and not good[j]:
-            good[j] = _straight_edged(np.pad(whole[sl] == j, 1), unit)
+            stats[j] = _outline_stats(np.pad(whole[sl] == j, 1), unit)
+            good[j] = _straight_edged(None, unit, stats=stats[j])
+    # a small crown's merged facets (15-25 px) meet at corners 1-3 px off their chords, which a
+    # tolerance of 3 px drops: one region's outline alone then stands as far off its polygon as
+    # a curve's; the crown's outlines together do not (see POOLED_RESIDUAL)
+    rows = [r for st in stats.values() for r in st]
+    if rows and np.mean([m for _, m, _, _ in rows]) <= POOLED_RESIDUAL * unit:
+        for j, st in stats.items():
+            # each outline's corners on their own: a ground's many small round holes (dots) keep
+            # their few corners and would cover a curved outer outline's gain
+            good[j] = good[j] or (_straight_edged(None, unit, LOOSE_RESIDUAL, stats=st)
+                                  and all(f <= STRAIGHT_GAIN * c + 1 for _, _, f, c in st))
     if good.sum() < MIN_FACETS:
         return None
     rim = crown & ~ndi.binary_erosion(crown, structure=np.ones((3, 3), bool))

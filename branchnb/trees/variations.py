@@ -64,6 +64,7 @@ from .flat_art import (
     _own_holes,
     _pixel_arts,
     _pixel_mix,
+    _straight_trunk_mix,
     exemplar_largest_hole,
     exemplar_outline,
     exemplar_parts,
@@ -585,6 +586,8 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     elif pixel:       # pixel art stays on its grid, in its palette, with a 1-art-pixel outline
         image, sources, trunk = _pixel_mix(image, [exemplars[i] for i in used], cw[used], sources, trunk,
                                            outline=p.outline)
+        # a straight trunk side re-gridded after the warp's bend is a staircase (trunk_lines.py)
+        image, sources, trunk = _straight_trunk_mix(image, [exemplars[i] for i in used], sources, trunk, grains)
     elif p.outline and len(used) > 1 and (st := _sticker_mix(
             image, [exemplars[i] for i in used], cw[used], w[used],
             np.where(image[..., 3] >= 0.5, sources, -1) if mode == "choose" else None)) is not None:
