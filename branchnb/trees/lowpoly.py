@@ -54,6 +54,18 @@ Figures (held-out seeds 10-13 of the ``/work/prompts`` generator): 1000 px 0/4 -
 facets 15-25 px) still fail often: their merged facets' outlines stand 0.5-0.7 px off their
 Douglas-Peucker polygon, as curved fills' do.
 
+Small crowns (trees54): a 96-200 px crown's merged facets (15-25 px) meet at corners 1-3 px off
+their chords, which the 3 px tolerance drops, so one outline alone stands 0.5-0.8 px off its
+polygon, as a curved fill's does. The crown's outlines on average (each outline counted once, so
+many small round holes in a straight-edged ground keep their weight) stand at most
+:data:`POOLED_RESIDUAL` off on low-poly crowns; then each region whose every outline stands at
+most :data:`LOOSE_RESIDUAL` off and keeps its corners on its own is a facet too. Figures
+(``tests/test_trees_lowpoly_small.py``, the ``/work/prompts`` generator at 96/128 px, seeds 0-3,
+10-13, 20-23): hard-edged low-poly found 1-3/8 -> 3-8/8 at 64-400 px; generator 96 px 5/12 ->
+6/12, 128 px 3/12 -> 6/12; curved fills (cel, clumps, dots, 64-400 px) none before or after, none
+of the 69 drawn, synthetic, sticker, sprite and sample trees at 128 and 256 px. Still missed: crowns
+whose regions lie 0.55-0.75 px off on average (half of the 96-128 px ones).
+
 Crowns with curved fills (cel shading, clumps, cartoon leaves), outlined
 or bordered crowns (an ink or sticker ring is no polygon) and pixel art are
 not faceted and keep the mix as made.
@@ -114,9 +126,9 @@ REACH = 0.015
 #: a region's anti-aliased steps included).
 STRAIGHT_RESIDUAL = 0.5
 #: ... or at most :data:`LOOSE_RESIDUAL` when the outlines of all the crown's regions that are
-#: no small convex polygon stand on average (weighted by length) at most :data:`POOLED_RESIDUAL`
-#: off (trees54): low-poly crowns of 96-200 px pool to 0.3-0.72 (median 0.43), curved fills
-#: (cel shading, clumps, dotted grounds) to 0.5-1.1 (dotted grounds fail the corner gain).
+#: no small convex polygon stand on average (each outline once) at most :data:`POOLED_RESIDUAL`
+#: off (trees54): low-poly crowns of 96-200 px average 0.33-0.75 (median 0.38-0.53), cel shading
+#: and clumps 0.64-1.03; dotted grounds (0.38-1.4) fail the corners kept by each outline.
 POOLED_RESIDUAL = 0.55
 LOOSE_RESIDUAL = 0.8
 #: Douglas-Peucker tolerance (source pixels) of a straight-edged region's outlines.
@@ -344,6 +356,10 @@ def facet_palette(image, trunk=None, *, pixel: float = 1.0) -> np.ndarray | None
     Beyond trees50 (trees51): the straightness tolerances are in the larger of ``pixel`` and
     1/:data:`STRAIGHT_REF` of the crown's size, so a large crown's shallow facet corners are not
     taken for a curve's.
+
+    Beyond trees51 (trees54): a small crown's merged facets are judged together (their outlines'
+    mean distance from their polygons at most :data:`POOLED_RESIDUAL`), then each at
+    :data:`LOOSE_RESIDUAL`.
 
     Examples
     --------
