@@ -581,6 +581,9 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
         image, sources = _facet_mix(image, [exemplars[i] for i in used], sources, trunk)
     if not bare:    # a bare mix is one piece already (a one-to-one warp of one exemplar)
         image = _one_piece(image, [exemplars[i] for i in used], own_holes=own)
+    if not bare and not pixel and not inked and len(used) > 1:
+        # hard-edged (aliased, off any art grid) trunks: the warp's bends are steps (trunk_lines.py)
+        image, sources, trunk = _straight_trunk_mix(image, [exemplars[i] for i in used], sources, trunk)
     if bare:        # no outline, sticker or palette step: its soft alpha and colours stay
         pass
     elif pixel:       # pixel art stays on its grid, in its palette, with a 1-art-pixel outline
