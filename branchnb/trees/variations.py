@@ -472,7 +472,10 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     :func:`~branchnb.trees.lowpoly.facet_palette`), the warp's bent facet edges and the
     mixed contour's lumps are redrawn: every facet as a straight-edged polygon through the
     corners where it meets its neighbours, the silhouette through the crown's own outer
-    corners (:func:`~branchnb.trees.lowpoly.straighten_facets`).
+    corners (:func:`~branchnb.trees.lowpoly.straighten_facets`). A hard-edged mix (pixel art on a
+    1-px grid, or aliased sources without outline) whose sources all stand on straight trunks
+    has its trunk's sides redrawn straight where no crown covers them
+    (:func:`~branchnb.trees.trunk_lines.straighten_trunk`).
 
     Examples
     --------
