@@ -265,6 +265,48 @@ def _source_pixel(exemplar: Exemplar) -> float:
     return max(1.0, float(getattr(norm, "scale", 1.0)))
 
 
+def _exemplar_straight_trunk(exemplar: Exemplar) -> bool:
+    """Whether an exemplar's trunk has straight sides (:func:`~branchnb.trees.trunk_lines.trunk_edges`,
+    :data:`~branchnb.trees.trunk_lines.STRAIGHT_SHARE` of its free rows within a pixel of its
+    lines; cached on it)."""
+    if "straight_trunk" not in exemplar._cages:
+        from .trunk_lines import STRAIGHT_SHARE, trunk_edges
+
+        e = trunk_edges(exemplar.image, exemplar.trunk)
+        exemplar._cages["straight_trunk"] = e is not None and e.share >= STRAIGHT_SHARE
+    return exemplar._cages["straight_trunk"]
+
+
+def _hard_edged(exemplar: Exemplar) -> bool:
+    """Whether an exemplar is drawn without anti-aliasing: under 5 % of its silhouette's rim
+    pixels of partial alpha (cached on it)."""
+    if "hard_edged" not in exemplar._cages:
+        a = exemplar.image[..., 3]
+        op = a >= 0.5
+        rim = ndi.binary_dilation(op) & ~ndi.binary_erosion(op)
+        part = (a > 0.05) & (a < 0.95)
+        exemplar._cages["hard_edged"] = bool(rim.any()) and float(part[rim].mean()) < 0.05
+    return exemplar._cages["hard_edged"]
+
+
+def _straight_trunk_mix(image: np.ndarray, exemplars: Sequence[Exemplar], sources: np.ndarray,
+                        trunk: np.ndarray, grains: Sequence[float] | None = None):
+    """A hard-edged mix whose sources all stand on straight trunks, its trunk's sides redrawn
+    straight (beyond the paper, :mod:`~branchnb.trees.trunk_lines`): ``(image, sources, trunk)``.
+    ``grains`` are the pixel-art sources' art pixels (a grid of blocks keeps its steps); without
+    them every source must be hard-edged (an anti-aliased mix keeps its soft sides)."""
+    from .trunk_lines import straighten_trunk
+
+    if grains is not None and max(grains) > 1.5:
+        return image, sources, trunk
+    if grains is None and not all(_hard_edged(e) for e in exemplars):
+        return image, sources, trunk
+    if not all(_exemplar_straight_trunk(e) for e in exemplars):
+        return image, sources, trunk
+    out, tr, src = straighten_trunk(image, trunk, sources=sources)
+    return out, src, tr
+
+
 def _exemplar_facets(exemplar: Exemplar):
     """:func:`~branchnb.trees.lowpoly.facet_palette` of an exemplar's crown (cached on it)."""
     if "facets" not in exemplar._cages:

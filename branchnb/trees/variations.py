@@ -64,6 +64,7 @@ from .flat_art import (
     _own_holes,
     _pixel_arts,
     _pixel_mix,
+    _straight_trunk_mix,
     exemplar_largest_hole,
     exemplar_outline,
     exemplar_parts,
@@ -471,7 +472,10 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     :func:`~branchnb.trees.lowpoly.facet_palette`), the warp's bent facet edges and the
     mixed contour's lumps are redrawn: every facet as a straight-edged polygon through the
     corners where it meets its neighbours, the silhouette through the crown's own outer
-    corners (:func:`~branchnb.trees.lowpoly.straighten_facets`).
+    corners (:func:`~branchnb.trees.lowpoly.straighten_facets`). A hard-edged mix (pixel art on a
+    1-px grid, or aliased sources without outline) whose sources all stand on straight trunks
+    has its trunk's sides redrawn straight where no crown covers them
+    (:func:`~branchnb.trees.trunk_lines.straighten_trunk`).
 
     Examples
     --------
@@ -580,11 +584,16 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
         image, sources = _facet_mix(image, [exemplars[i] for i in used], sources, trunk)
     if not bare:    # a bare mix is one piece already (a one-to-one warp of one exemplar)
         image = _one_piece(image, [exemplars[i] for i in used], own_holes=own)
+    if not bare and not pixel and not inked and len(used) > 1:
+        # hard-edged (aliased, off any art grid) trunks: the warp's bends are steps (trunk_lines.py)
+        image, sources, trunk = _straight_trunk_mix(image, [exemplars[i] for i in used], sources, trunk)
     if bare:        # no outline, sticker or palette step: its soft alpha and colours stay
         pass
     elif pixel:       # pixel art stays on its grid, in its palette, with a 1-art-pixel outline
         image, sources, trunk = _pixel_mix(image, [exemplars[i] for i in used], cw[used], sources, trunk,
                                            outline=p.outline)
+        # a straight trunk side re-gridded after the warp's bend is a staircase (trunk_lines.py)
+        image, sources, trunk = _straight_trunk_mix(image, [exemplars[i] for i in used], sources, trunk, grains)
     elif p.outline and len(used) > 1 and (st := _sticker_mix(
             image, [exemplars[i] for i in used], cw[used], w[used],
             np.where(image[..., 3] >= 0.5, sources, -1) if mode == "choose" else None)) is not None:
