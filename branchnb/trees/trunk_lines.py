@@ -58,14 +58,18 @@ MIN_ROWS = 8
 class TrunkEdges:
     """The sides of a trunk on its free rows.
 
-    Attributes
+    Parameters
     ----------
     rows : ndarray
         The free rows (y), top to bottom.
-    left, right : ndarray
-        Leftmost and rightmost trunk pixel (x) of each row.
-    fit_left, fit_right : ndarray
-        The fitted lines at those rows.
+    left : ndarray
+        Leftmost trunk pixel (x) of each row.
+    right : ndarray
+        Rightmost trunk pixel (x) of each row.
+    fit_left : ndarray
+        The left side's fitted line at those rows.
+    fit_right : ndarray
+        The right side's fitted line at those rows.
     share : float
         Share of rows whose both sides lie within 1 px of their lines.
     deviation : float
