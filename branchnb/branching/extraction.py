@@ -130,7 +130,12 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
         channels (a sea) are no branches, and braided channels (cycles) are
         cut into a tree where the two fronts of the shortest-path tree meet.
         Outlines of large flat regions touching the border (a country
-        border, a coast line) are no branches either. Strokes of several
+        border, a coast line) are no branches either; nor, on an engraved
+        map, the coast along its hatched sea
+        (:func:`~branchnb.branching.hatched_seas.erase_hatched_sea`, beyond the
+        paper: the land's paper is the sea's, the outline is told by the sea's
+        mask), whose rivers keep their mouth (a piece cut there is kept from
+        half ``min_component_length``) and are rooted at the sea. Strokes of several
         colours on one plain paper (an ornament's black stroke with a
         coloured inner line) are traced as one ink mask
         (:func:`~branchnb.branching.ridges.multi_colour_ink`). Drawn strokes broken

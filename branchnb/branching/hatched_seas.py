@@ -62,6 +62,15 @@ def hatched_background(gray, branches=None, *, min_coherence: float = MIN_COHERE
     coast with the rivers joined to it); the pieces between them that this
     texture covers at least half of are the sea, with the long lines that
     lie along them only (the hatching; the coast has land beside it).
+    Beyond that (issue 23, branching108): a piece whose eroded core covers
+    under half of it still is sea when the core covers half of its part
+    deeper than a window (a narrow wedge of sea); beside such a sea, a corner
+    or a closed bay too narrow for the opened texture is sea when the raw
+    texture covers :data:`MIN_CORNER_TEXTURE` of it and three or more long
+    lines lie beside it, and a pocket smaller than the window when its own
+    lines are dense and parallel to the sea's hatching (:func:`_pockets`);
+    hatching joined to the coast line (one ink piece with it) is sea pixel
+    by pixel where no land lies within 2 px.
     Water lines that follow the coast and fade into plain paper far out
     (the "waterlines" kind) leave that paper out of the sea: not handled.
 
@@ -135,9 +144,12 @@ def hatched_background(gray, branches=None, *, min_coherence: float = MIN_COHERE
     # the texture was eroded by two windows from the piece's edge: a narrow sea (a wedge between land reaching
     # the frame and the frame, 12 % of a 512 px map) keeps under half its area as core though no land piece
     # keeps any (0.0 on the procedural maps); so half of the piece's part deeper than a window is asked
-    deep = np.bincount(lab_f[cv2.erode((~wall).astype(np.uint8), disk, borderType=cv2.BORDER_REPLICATE) > 0],
-                       minlength=n_f + 1)
-    piece = (core >= 0.5 * np.minimum(size, deep)) & (core >= 0.2 * size)
+    # (the core counted in that deep part only: hatching that runs up to a plain land without a coast line
+    # joins the strips between its lines to the land, whose deep part is the land alone)
+    deep_px = cv2.erode((~wall).astype(np.uint8), disk, borderType=cv2.BORDER_REPLICATE) > 0
+    deep = np.bincount(lab_f[deep_px], minlength=n_f + 1)
+    core_deep = np.bincount(lab_f[sea & deep_px], minlength=n_f + 1)
+    piece = (core >= 0.5 * size) | ((core_deep >= 0.5 * deep) & (deep > 0) & (core >= 0.2 * size))
     piece[0] = False
     # a corner of the sea cut off by land reaching the frame or a bay closed by the land (2-3 % of the map,
     # too narrow for the texture to survive the opening) is sea as well when the texture covers a good part
@@ -146,6 +158,8 @@ def hatched_background(gray, branches=None, *, min_coherence: float = MIN_COHERE
     raw_share = np.bincount(lab_f[raw], minlength=n_f + 1) / np.maximum(size, 1)
     # (only beside a sea found by its core: without one, textured slivers are a delta's channels)
     maybe = ~piece & (raw_share >= MIN_CORNER_TEXTURE)
+    # (and over its part deeper than a window: a plain land joined to the strips between the hatching has none)
+    maybe &= np.bincount(lab_f[raw & deep_px], minlength=n_f + 1) >= MIN_CORNER_TEXTURE * deep
     maybe[0] = False
     if piece[1:].any() and maybe.any():
         piece |= maybe & (_lines_beside(lab_f, lab_i * wall) >= 3)
