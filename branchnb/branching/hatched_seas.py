@@ -158,8 +158,9 @@ def hatched_background(gray, branches=None, *, min_coherence: float = MIN_COHERE
     raw_share = np.bincount(lab_f[raw], minlength=n_f + 1) / np.maximum(size, 1)
     # (only beside a sea found by its core: without one, textured slivers are a delta's channels)
     maybe = ~piece & (raw_share >= MIN_CORNER_TEXTURE)
-    # (and over its part deeper than a window: a plain land joined to the strips between the hatching has none)
-    maybe &= np.bincount(lab_f[raw & deep_px], minlength=n_f + 1) >= MIN_CORNER_TEXTURE * deep
+    # (with no wide untextured interior: a plain land joined to the strips between hatching that runs up to it
+    # without a coast line has 0.3 of the piece deeper than a window and untextured, the corners under 0.04)
+    maybe &= deep - np.bincount(lab_f[raw & deep_px], minlength=n_f + 1) < 0.2 * size
     maybe[0] = False
     if piece[1:].any() and maybe.any():
         piece |= maybe & (_lines_beside(lab_f, lab_i * wall) >= 3)
