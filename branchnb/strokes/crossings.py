@@ -195,12 +195,40 @@ def _pass_layer(placed: list, laid: list, k: int, s0: float, s1: float, box, met
     comp = compose(sub, (rs.stop - rs.start, cs.stop - cs.start), method=method, power=power,
                    gradient_weighted=gradient_weighted)
     pm = comp.image
-    out = np.zeros_like(pm)
+    out = np.zeros((*pm.shape[:2], 5), np.float32)  # (straight RGBA, covered)
     a = pm[..., 3]
     nz = a > 1e-6
     out[nz, :3] = np.clip(pm[nz, :3] / a[nz, None], 0.0, 1.0)
     out[..., 3] = a
+    out[..., 4] = comp.covered
     return out
+
+
+def _crowded(attached, index, c: _Crossing, stretches, width: float) -> bool:
+    """Whether any other stroke, or another stretch of the crossing's strokes, comes within the
+    two passes' bands (a tight curl's next turn, a third stroke through the crossing): the
+    crossing is then left as the cut laid it (its passes' patches also cover those)."""
+    for m, pair in enumerate(attached):
+        st = pair.target
+        s = np.arange(0.0, st.length + 0.5, 1.0)
+        keep = np.ones(len(s), bool)
+        for k, s0, s1, _ in stretches:
+            if k == m:
+                keep &= (s < s0) | (s > s1)
+        if not keep.any():
+            continue
+        pts = st.point_at(s[keep])
+        w_m = float(np.max(index.half_width(m, pair.source_arc_length(s[keep])))) + width + 2.0
+        for k, s0, s1, wk in stretches:
+            q = attached[k].target.point_at(np.arange(s0, s1 + 0.5, 1.0))
+            near = np.hypot(pts[:, None, 0] - q[None, :, 0], pts[:, None, 1] - q[None, :, 1]).min(axis=1)
+            if k == m:
+                # (the stroke's own points just past the stretch's ends are no crowd)
+                gap = np.minimum(np.abs(s[keep] - s0), np.abs(s[keep] - s1))
+                near = np.where(gap > 2.0 * (wk + w_m), near, np.inf)
+            if (near < wk + w_m).any():
+                return True
+    return False
 
 
 def _over_into(dst: np.ndarray, src: np.ndarray, where: np.ndarray) -> None:
@@ -267,6 +295,8 @@ def crossed_over(layer: np.ndarray, placed: list, laid: list, labels: np.ndarray
         box = (slice(max(y0, 0), min(y1, h)), slice(max(x0, 0), min(x1, w)))
         if box[0].start >= box[0].stop or box[1].start >= box[1].stop:
             continue
+        if _crowded(attached, index, c, stretches, width):
+            continue
         layers, bands = [], []
         for k, s0, s1, wk in stretches:
             lay = _pass_layer(placed, laid, k, s0, s1, box, method, power, gradient_weighted)
@@ -279,7 +309,9 @@ def crossed_over(layer: np.ndarray, placed: list, laid: list, labels: np.ndarray
         region = bands[0] | bands[1]
         sub = out[box].copy()
         # the two passes' own pixels in the region are redrawn (other parts' stay under them)
-        mine = np.isin(stroke_of[labels[box]], [c.top, c.bottom]) & region
+        # (only where their stretches' patches reach: no hole where they do not)
+        mine = np.isin(stroke_of[labels[box]], [c.top, c.bottom]) & region \
+            & ((layers[0][..., 4] > 0) | (layers[1][..., 4] > 0))
         sub[mine] = 0.0
         for lay, band in zip(layers, bands):
             _over_into(sub, lay, band & (lay[..., 3] > _CLEAR))
