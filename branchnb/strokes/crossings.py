@@ -233,12 +233,13 @@ def _crowded(attached, index, c: _Crossing, stretches, width: float) -> bool:
 
 def _over_into(dst: np.ndarray, src: np.ndarray, where: np.ndarray) -> None:
     """Straight-alpha ``src`` over ``dst`` (in place) on ``where``."""
-    a = src[where][:, 3:4]
-    la = dst[where][:, 3:4]
+    a = np.where(where, src[..., 3], 0.0)[..., None]
+    la = dst[..., 3:4]
     na = a + la * (1.0 - a)
-    pm = src[where][:, :3] * a + dst[where][:, :3] * la * (1.0 - a)
-    dst[where, :3] = np.where(na > 1e-6, pm / np.maximum(na, 1e-6), 0.0)
-    dst[where, 3] = na[:, 0]
+    pm = src[..., :3] * a + dst[..., :3] * la * (1.0 - a)
+    rgb = np.where(na > 1e-6, pm / np.maximum(na, 1e-6), 0.0)
+    dst[..., :3] = np.where(where[..., None], rgb, dst[..., :3])
+    dst[..., 3] = np.where(where, na[..., 0], dst[..., 3])
 
 
 def crossed_over(layer: np.ndarray, placed: list, laid: list, labels: np.ndarray, attached: list, index,
