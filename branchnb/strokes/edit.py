@@ -464,6 +464,12 @@ def edit_structure(image, source_strokes, target_strokes, params: StrokeEditPara
     over another part it was apart from in the source is drawn over it,
     with its own outline across the other's flesh (a finger bent over its
     neighbour's tip); the stroke that moved more there lies on top.
+    A stroke crossing its own path (a rope re-stroked into a loop) or another
+    stroke on its way (neither ending on the other) passes over it, outline
+    and all (:mod:`~branchnb.strokes.crossings`): the later pass by arc length
+    lies on top of a self-crossing, the stroke given later on top of another
+    (unless the source shows it lying under that one); crossings crowded by
+    a third pass or stroke, and of strokes left where they were, stay as laid.
     Half-transparent pixels deeper inside the result than the source's own
     anti-aliased rim are made opaque (no light ticks in crotches).
 

@@ -16,6 +16,7 @@ from scipy import ndimage as ndi
 from scipy.spatial import cKDTree
 
 from .composition import PlacedPatch, compose, labelling_cost, seam_mask
+from .crossings import crossed_over
 from .crotches import _child_width, new_crotches, round_crotches
 from .edit import FETCH_FIELDS, EditPatches, StrokeEditParams, StrokeEditResult, StrokeSamples, _check_edit_params
 from .fanning import _fanned_maps
@@ -68,6 +69,9 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
     index, window, junctions = patches._index, patches._window, patches.junctions
     attached, extra, target_shape = patches.attached, patches._extra, patches.target_shape
     placed: list[PlacedPatch] = []
+    # per patch: (stroke, target arc length, valid pixels or None) of a stroke's sample, None for a
+    # carried part
+    laid: list = []
     samples: list[StrokeSamples | None] = [None] * len(patches.pairs)
     e_total = e_pair = 0.0
     source_region = np.zeros(index.shape, bool)
@@ -111,10 +115,16 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
                     fs = fs | _inside_parent(index, attached, jn, f.origin, f.valid.shape[1], inside_cache)
                     keep = fs if keep is None else keep | fs
             valid = f.valid[k]
+            whole = None
             if i in across:
-                valid = valid & across[i](f.origin, valid.shape[0], _patch_map(f, k), f.source_points[k],
-                                          float(f.source_angles[k]), float(f.source_s[k]),
-                                          float(smp.s[j]))
+                check = across[i]
+                args = (f.origin, valid.shape[0], _patch_map(f, k), f.source_points[k],
+                        float(f.source_angles[k]), float(f.source_s[k]))
+                if check.t_map is not None:
+                    # (without the target-side check: a pass crossing another turn of its own
+                    # stroke is not folded over it, see crossings.py)
+                    whole = valid & check(*args)
+                valid = valid & check(*args, float(smp.s[j]))
             rows, cols = f.source_pixels(k, index.shape)
             behind = None
             if i in index.views:
@@ -124,6 +134,7 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
                 behind = behind if behind.any() else None
             placed.append(PlacedPatch(f.pixels[k], valid, f.origin, pin_core, keep,
                                       _patch_map(f, k), grow=not pin_core, stroke=i, behind=behind))
+            laid.append((i, float(smp.s[j]), whole))
             source_region[rows, cols] = True
         samples[i] = StrokeSamples(
             target=smp.points, source=np.array([fetched[j].source_points[k]
@@ -159,6 +170,7 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
             reach = 2.0 * float(index.half_width(part.stroke, part.s)) + 2.0
             keep &= np.hypot(xx + origin[0] - p[0], yy + origin[1] - p[1]) <= reach
         placed.append(PlacedPatch(pix, valid, origin, True, keep, inverse, grow=True))
+        laid.append(None)
         notch = _part_notches(pix, valid, keep, _notch_radius(part, ends))
         if part.body:
             # a body stays in place: where the moved stroke's patches left its own pixels transparent
@@ -285,6 +297,11 @@ def compose_patches(patches: EditPatches, params: StrokeEditParams | None = None
         # a part moved over another part is drawn over it, with its own outline
         layer = _overlaid_parts(layer, placed, junctions, index, attached,
                                0.0 if style is None else style.width)
+        # a stroke crossing itself (or another stroke) on its way passes over it, outline and all
+        layer = crossed_over(layer, placed, laid, comp.labels, attached, index, junctions,
+                             _still(patches.pairs), 0.0 if style is None else style.width,
+                             method=params.composition, power=params.seam_power,
+                             gradient_weighted=params.gradient_weighted)
         # (the joints' closings leave cracks of their own)
         layer = _close_rim_cracks(layer)
         layer = drop_flecks(layer, index.premult[:, :, 3])
@@ -328,6 +345,12 @@ _ACROSS_TOL = 0.06
 _BEND_TOL = 0.25
 #: Turn (rad) within one patch radius past which a target stroke is a curl (see _AcrossCheck).
 _CURL_TURN = 0.75
+
+
+def _still(pairs) -> set:
+    """Indices of the pairs whose target stroke is their source stroke (left where it was)."""
+    return {k for k, p in enumerate(pairs) if p.source.points.shape == p.target.points.shape
+            and np.array_equal(p.source.points, p.target.points)}
 
 
 def _rigid(pair, tol: float = 1.0) -> bool:
