@@ -16,7 +16,7 @@ import numpy as np
 
 from ..core.image import as_float_image
 
-__all__ = ["flattened_silhouette", "silhouette_ink", "silhouette_colours"]
+__all__ = ["flattened_silhouette", "silhouette_colours"]
 
 #: Robust spread (grey levels) of the ground about its fitted surface up to which the ground is smooth:
 #: paper and sky, not a photograph's texture or grain.
@@ -145,31 +145,6 @@ def flattened_silhouette(image) -> np.ndarray | None:
     """
     found = _silhouette(image)
     return None if found is None else (1.0 - found[0]).astype(np.float32)
-
-
-def silhouette_ink(image) -> np.ndarray | None:
-    """The ink colour of a silhouette on a smooth shaded ground (``None``: not such an image).
-
-    Parameters
-    ----------
-    image : (H, W) or (H, W, 3) array_like
-        Luminance or RGB in [0, 1].
-
-    Returns
-    -------
-    (3,) float32 ndarray or None
-        The solid ink's colour (grey repeated for a luminance image); see :func:`flattened_silhouette`.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> sky = np.linspace(0.5, 0.9, 64)[:, None] * np.ones((64, 64))
-    >>> sky[:, 30:34] = 0.1
-    >>> [round(float(c), 2) for c in silhouette_ink(sky)]
-    [0.1, 0.1, 0.1]
-    """
-    found = _silhouette(image)
-    return None if found is None else np.asarray(found[1], np.float32)
 
 
 def silhouette_colours(image) -> tuple[np.ndarray, np.ndarray] | None:
