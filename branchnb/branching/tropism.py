@@ -43,6 +43,10 @@ TROPISM_FLOOR = 0.1
 #: The weights are the smoothed histogram to this power: at 1 a root system's output (512 px) still ran
 #: 73-89 % of its length down against the example's 98 %.
 TROPISM_POWER = 2.0
+#: A Markov step whose bearing weighs less than this (the mean is 1) is not taken, and a branch with no
+#: other step ends: a step only re-weighs its candidates, and where all of them turn one way (a small
+#: example's few windows) a winter tree's trunk (128 px) still hooked over to point down.
+TROPISM_STOP = 0.25
 #: Inward normal (x, y) of the frame sides, as numbered by :func:`.roots.boundary_frame`.
 _INWARD = {0: (0.0, 1.0), 1: (0.0, -1.0), 2: (1.0, 0.0), 3: (-1.0, 0.0)}
 
