@@ -28,13 +28,16 @@ NOISE_PX = 0.6
 #: first Markov step the density refused are dropped in every tree (``filling.STILLBORN_EVERYWHERE``).
 #: test_branching_frame_bolt_bearing's 256 px bolt then runs at 67-68 deg, the bearing of the example's own
 #: traced roots (67.0 / 71.2) but 17.8-19 deg off the drawn roots' mean (bound 15; rounded, seeds 0-9 reach
-#: 24.8 as well). Still failing with all three on (branching107, unexamined): image_style's mud160 crack
-#: and 96 px map coast (figure-only, branching106), radius_fidelity's thick trunks, structure's regrown
-#: roots, style's delta bends, line_art's 128 px trunk colour, band_strands' core, child_start_kernels'
-#: plain == general path (LEAVE_FRAME's re-ranking), delta_axis fan55, delta_balance, delta_forks [0].
-#: With the two switches on and corners rounded: mud160, thick trunks, regrown roots and thin_children's
-#: partial crack fail, so those come from the switches, not the corners. With it on, a 256 px zig-zag keeps 31-33
-#: deg of its 33-34 deg turn per 5 px (15-17 off), see the module notes.
+#: 24.8 as well). Still failing with all three on (branching112, attributed by switching each alone):
+#: KEEP_CORNERS alone: delta_axis fan55 (seed 1: a channel runs sideways to the frame, fan 0; rounded it
+#: does too, 2 of 3 reach the sea), delta_balance's binary delta (smaller side 0.17 in seed 2), radius_fidelity's
+#: thick trunks (comb 300, rngs 0-4 thick share 0.17/0.09/0.11/0.11/0.16 of the example's 0.22, rounded
+#: 0.10-0.14; hd better 0.12-0.27 against 0.23-0.33; children fewer and longer: nb 0.46-1.0), line_art's
+#: 128 px trunk colour, band_strands' core, frame_bolt_bearing (above); LEAVE_FRAME 0 alone: image_style's
+#: mud160 pieces (also with corners + STILLBORN_EVERYWHERE) and thick trunks' hd 0.354 > 0.35; corners +
+#: LEAVE_FRAME: image_style's 96 px coast. Gone: delta_forks (branching110), style, thin_children,
+#: structure's regrown roots and child_start_kernels (their guards counted seeds, branching112). With it on,
+#: a 256 px zig-zag keeps 31-33 deg of its 33-34 deg turn per 5 px (15-17 off), see the module notes.
 KEEP_CORNERS = False
 #: Width of the narrow Gaussian used at corners, as a share of the wide one (4 px -> 1.5 px: still removes
 #: the one-pixel steps of a diagonal; a bolt's corner keeps its turn).
