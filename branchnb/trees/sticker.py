@@ -355,6 +355,16 @@ def _drop_band_specks(mid: np.ndarray, inner: np.ndarray, di: np.ndarray, ink: n
     return out
 
 
+def _ink_ring(mid: np.ndarray, inner: np.ndarray, di: np.ndarray, ink: np.ndarray, pen_w: float) -> np.ndarray:
+    """``mid`` with a ring ``pen_w`` px wide (fractional: a soft inner edge) inked inside the rim of
+    ``inner`` (``di``: its depth, 1 on the rim; a pixel of depth d holds the band from d - 1 to d)."""
+    q = np.clip(pen_w - (di - 1.0), 0.0, 1.0)[..., None]
+    ring_px = inner & (q[..., 0] > 0)
+    out = mid.copy()
+    out[ring_px, :3] = (q * ink + (1.0 - q) * mid[..., :3])[ring_px]
+    return out
+
+
 def _sticker_mix(image: np.ndarray, exemplars: Sequence, cw: np.ndarray, weights: np.ndarray,
                  sources: np.ndarray | None = None) -> np.ndarray | None:
     """Rebuild a mix of sticker trees ring by ring (None when they are not stickers).
@@ -399,7 +409,7 @@ def _sticker_mix(image: np.ndarray, exemplars: Sequence, cw: np.ndarray, weights
     if not all(t is not None for t, o, b in zip(thin, outl, borders, strict=True) if b is not None and not o.outlined):
         thin = [None if o.outlined or b is None else _thin_ink(e.image, b, blended=False)
                 for o, e, b in zip(outl, exemplars, borders, strict=True)]
-    outl = [SimpleNamespace(outlined=True, ink=t, width=1) if t is not None else o
+    outl = [SimpleNamespace(outlined=True, ink=t, width=1, blended=True) if t is not None else o
             for o, t in zip(outl, thin, strict=True)]
     ons = [o.outlined for o in outl]
     if not any(ons):
@@ -470,12 +480,37 @@ def _sticker_mix(image: np.ndarray, exemplars: Sequence, cw: np.ndarray, weights
             mid[leak, :3] = rgb[iy[leak], ix[leak]]
         # The outline ring itself, in the sources' ink and pen width, with a half-ink inner edge.
         # A pixel of depth d (1 on the rim) holds the band from d - 1 to d.
-        q = np.clip(pen_w - (di - 1.0), 0.0, 1.0)[..., None]
-        ring_px = inner & (q[..., 0] > 0)
-        mid[ring_px, :3] = (q * ink.ink + (1.0 - q) * mid[..., :3])[ring_px]
-        # Pieces of the warped outline deeper than that (at the crown's notches) are specks.
-        mid = _drop_rim_flecks(mid, ink.ink, ink_w)
-        mid = _drop_band_specks(mid, inner, di, ink.ink, pen_w, lim)
+        bare = mid.copy()
+
+        def inked(pw: float) -> np.ndarray:
+            m = _ink_ring(bare, inner, di, ink.ink, pw)
+            # Pieces of the warped outline deeper than that (at the crown's notches) are specks.
+            m = _drop_rim_flecks(m, ink.ink, ink_w)
+            return _drop_band_specks(m, inner, di, ink.ink, pw, lim)
+
+        mid = inked(pen_w)
+        # The same measure read on the inked mix: the band's fill and a sub-pixel pen's blends add
+        # to a source's cover (a 0.64 px pen on a 128 px sticker read 1.35-1.6 px against an ink
+        # measured on blends) and so to the ring drawn from it, re-inked 1.5x as heavy as the
+        # sources'. The ring is redrawn at the width whose measure on the mix is the sources'
+        # (one step, at most 0.6-1.5x; beyond the paper, trees56).
+        probe = out.copy()
+        probe[inner, :3] = mid[inner, :3]
+        probe[(img[..., 3] > 0) & ~inner, :3] = colour
+        # (the sources read against the mix's ink too: a source's own ink, lighter or darker than
+        # the one drawn, reads a different cover and made the step thin 192 px rings that matched)
+        aim = [(_pen_cover(e.image, b, ink.ink, o.width + 2.0), x)
+               for e, b, o, x in zip(exemplars, borders, outl, share, strict=True) if o.outlined and b is not None]
+        aim_w = float(np.average([c for c, _ in aim], weights=[x + 1e-9 for _, x in aim]))
+        got = _pen_cover(probe, _StickerBorder(colour, width, probe), ink.ink, ink_w + 2.0)
+        # Only for a pen read on blends for most of the colour share (a sub-pixel pen, found by
+        # _thin_ink): on 192 px rings whose ink was measured on the pen's core the step thinned
+        # a quarter of the mixes to 0.6-0.7 of the sources' width.
+        blended = sum(x for o, x in zip(outl, share, strict=True) if getattr(o, "blended", False))
+        if 2.0 * blended > sum(x for o, x in zip(outl, share, strict=True) if o.outlined) \
+                and got > 1e-3 and aim_w > 1e-3:
+            pen_w *= float(np.clip(aim_w / got, 0.6, 1.5))
+            mid = inked(pen_w)
     else:
         mid = _drop_warped_border(mid, inner, colour, width)
     res = out
