@@ -284,7 +284,7 @@ def reclaim_marks(claims, mask, taken, user, *, slack: float = RECLAIM_SLACK) ->
     return ok[lab] & extra
 
 
-def layer_coloured(lab, blade, layer_colour, taken=None) -> np.ndarray:
+def layer_coloured(lab, blade, layer_colour, taken=None, above=None) -> np.ndarray:
     """Pixels of ``blade`` whose own colour is nearer the layer's than the blade's (CIELAB distance).
 
     The blade's colour is the median over the blade outside ``taken`` (the
@@ -300,10 +300,28 @@ def layer_coloured(lab, blade, layer_colour, taken=None) -> np.ndarray:
         The layer's CIELAB colour (the training layer's median).
     taken : (H, W) bool array_like, optional
         What the layers above took (left out of the blade's colour).
+    above : sequence of (3,) array_like, optional
+        The colours of the layers above (their training medians): a pixel
+        must also be nearer the layer's colour than each of them.
 
     Returns
     -------
     (H, W) bool ndarray
+
+    Notes
+    -----
+    With ``above`` (beyond the paper): where a pale vein crosses or skirts
+    a dark spot, its soft edge mixes the two colours; against the blade
+    alone half-vein pixels are nearer the spot, and the spot's edge
+    (:func:`refine_edges`) grew a fringe along the vein wherever the vein
+    layer's mask missed it. Nearest of the layer's, the blade's and the
+    layers above's colours cuts a two-colour mix at half coverage, where
+    the marks' truth is cut. Procedural lobed family (160 px, rng 3),
+    exemplar 1's spots IoU 0.898 -> 0.911. Not enough: three-colour
+    pixels at a spot's edge (under half spot, under half vein, the rest
+    blade) are still nearest the spot's colour (exemplar 2 stays at 0.772;
+    an unmixing in the plane of the three CIELAB colours lost true spot
+    pixels, 0.627).
     """
     lab = np.asarray(lab, np.float64)
     if lab.ndim != 3 or lab.shape[2] != 3:
@@ -316,7 +334,14 @@ def layer_coloured(lab, blade, layer_colour, taken=None) -> np.ndarray:
     if not free.any():
         return np.zeros(blade.shape, bool)
     c_b = np.median(lab[free], axis=0)
-    return blade & (np.linalg.norm(lab - c_l, axis=-1) < np.linalg.norm(lab - c_b, axis=-1))
+    d_l = np.linalg.norm(lab - c_l, axis=-1)
+    out = blade & (d_l < np.linalg.norm(lab - c_b, axis=-1))
+    for i, c in enumerate(above or ()):
+        c = np.asarray(c, np.float64).reshape(-1)
+        if c.shape != (3,) or not np.all(np.isfinite(c)):
+            raise ValueError(f"above[{i}] must be 3 finite numbers, got {above[i]!r}")
+        out &= d_l < np.linalg.norm(lab - c, axis=-1)
+    return out
 
 
 def refine_edges(mask, coloured, free) -> np.ndarray:
