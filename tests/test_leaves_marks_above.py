@@ -41,3 +41,29 @@ def test_above_colours_are_checked():
         layer_coloured(lab, blade, SPOT, above=[[1.0, 2.0]])
     # No layers above: as before.
     assert np.array_equal(layer_coloured(lab, blade, SPOT, above=[]), layer_coloured(lab, blade, SPOT))
+
+
+@pytest.mark.parametrize("size", [96, 400])
+def test_local_colours_keep_a_spots_edge_off_the_blade_beside_it(size):
+    # A blade darker round the spot than elsewhere (mottling) and a spot redder than the training colour:
+    # its edge pixels, a third spot, were nearer the training colour than the whole blade's median.
+    yy, xx = np.mgrid[:size, :size]
+    c, r = size / 2, size / 10
+    d = np.hypot(yy - c, xx - c)
+    cov = np.clip(r + 0.5 - d, 0, 1)
+    dark = np.hypot(yy - c, xx - c) < 3 * r
+    blade_lab = np.where(dark[..., None], [40.0, -20.0, 35.0], [60.0, -35.0, 45.0])
+    own_spot, trained = np.array([25.0, 50.0, 25.0]), np.array([34.0, 9.0, 30.0])
+    lab = blade_lab * (1 - cov[..., None]) + own_spot * cov[..., None]
+    blade, truth = np.ones((size, size), bool), cov > 0.5
+    found = ndi_dilate(truth)
+    iou = lambda m: (m & truth).sum() / (m | truth).sum()  # noqa: E731
+    plain = refine_edges(found, layer_coloured(lab, blade, trained), blade)
+    local = refine_edges(found, layer_coloured(lab, blade, trained, local=True), blade)
+    assert iou(local) > iou(plain) + 0.02, (iou(local), iou(plain))
+    assert iou(local) >= 0.97
+
+
+def ndi_dilate(m):
+    from scipy import ndimage as ndi
+    return ndi.binary_dilation(m)

@@ -402,7 +402,7 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
             # dark spot (see Notes of :func:`~branchnb.leaves.induction_scatter.layer_coloured`).
             steps_kept.coloured = [None if e == t else layer_coloured(
                 _lab(seen[e]) if e in own_read else labs[e], blades[e], own_t if e in own_read else colour_t,
-                taken[e], above=None if e in own_read else above_colours) for e in range(n)]
+                taken[e], above=None if e in own_read else tuple(above_colours), local=True) for e in range(n)]
         if singled and len(residuals) >= 2:
             # D of the marks on the residual the layer above was read on: what that layer took of
             # their colour (see Notes).
