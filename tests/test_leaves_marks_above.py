@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+from scipy import ndimage as ndi
 
 from branchnb.leaves.induction_scatter import layer_coloured, refine_edges
 
@@ -9,7 +10,8 @@ BLADE, SPOT, VEIN = np.array([50.0, -30.0, 40.0]), np.array([30.0, 20.0, 30.0]),
 
 
 def _leaf(size):
-    # A dark spot with a paler orange vein across it (an autumn leaf); the vein's soft edge (each side, 2 px) mixes the two.
+    # A dark spot with a paler orange vein across it (an autumn leaf); the vein's soft edge
+    # (each side, 2 px) mixes the two.
     yy, xx = np.mgrid[:size, :size]
     c = size / 2
     spot = np.hypot(yy - c, xx - c) < size / 6
@@ -56,14 +58,9 @@ def test_local_colours_keep_a_spots_edge_off_the_blade_beside_it(size):
     own_spot, trained = np.array([25.0, 50.0, 25.0]), np.array([34.0, 9.0, 30.0])
     lab = blade_lab * (1 - cov[..., None]) + own_spot * cov[..., None]
     blade, truth = np.ones((size, size), bool), cov > 0.5
-    found = ndi_dilate(truth)
+    found = ndi.binary_dilation(truth)
     iou = lambda m: (m & truth).sum() / (m | truth).sum()  # noqa: E731
     plain = refine_edges(found, layer_coloured(lab, blade, trained), blade)
     local = refine_edges(found, layer_coloured(lab, blade, trained, local=True), blade)
     assert iou(local) > iou(plain) + 0.02, (iou(local), iou(plain))
     assert iou(local) >= 0.97
-
-
-def ndi_dilate(m):
-    from scipy import ndimage as ndi
-    return ndi.binary_dilation(m)

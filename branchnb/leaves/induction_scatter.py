@@ -78,7 +78,8 @@ from scipy import ndimage as ndi
 
 from ..core.image import as_mask
 
-__all__ = ["RECLAIM_SLACK", "TIE_LEVEL", "SCATTER_SPAN", "positional_tie", "reclaim_marks", "scattered_layer"]
+__all__ = ["LOCAL_BLADE", "RECLAIM_SLACK", "TIE_LEVEL", "SCATTER_SPAN", "positional_tie", "reclaim_marks",
+           "scattered_layer"]
 
 #: :func:`positional_tie` below which a scattered layer gets no positional tie (``lambda = 0``). Measured on
 #: procedural families: veins 0.9-1.0; rust spots of which one sits at the same place on every leaf 0.23.
