@@ -9,6 +9,10 @@ Made again at leaves75 (a scattered layer's edges by its pixels' colour, marks t
 by shape): lobed 0.893 / 0.822 -> 0.898 / 0.772 (exemplar 2's 63-px spots gained a 7-px rim of their
 soft edge), elliptic 0.826 / 0.932 -> 0.835 / 0.950; veins kept as main's (elliptic exemplar 1 now has
 1 px less, IoU 0.999).
+Spots made again at leaves85 (a mark's edge by the exemplar's own marks' colour and the blade's colour
+round it, not nearer a layer above's colour): IoU with the true spots lobed 0.907 / 0.898 / 0.772 ->
+0.907 / 0.920 / 0.897, elliptic 0.905 / 0.0507 / 0.950 -> 0.905 / 0.0504 / 0.959 (exemplar 1's
+registration fails: its spots are elsewhere either way); veins kept.
 """
 
 
@@ -50,17 +54,17 @@ REFERENCE = {
         'XXDoMXtUxaGGM1pvfb9C9uow4QTAj6yB3W32f1i/AeV6Z5M='
     ),
     ('lobed', 'spots', 0): ((170, 172),
-        'eNrtlM0JwjAYhhMK9iLt1UNoVnAAaVdxkKIdxGHqAuII3nq0NyNIY3L9fAYo8r2QQF4evr+EGKNSqVQq1X/pQWZ1FEY+dzdhtmmV'
-        'bxGgyOfYCrQbjakniS5p62eB+kxthGkXKtNj8f16hz2SuSXTInogs0T0Z2D7PDA57GJIqaJEQ1o7OVufUOOEWQeo1cYBCnIB26Ti'
-        'Hfb5JLT6EDrho6b8V3pC/k4oZmoavBKKak+Evqgrj0Fncs+Uqrzox6ZSrUtf6kssmA=='
+        'eNrtlM0JwjAYhhMK9iLt1UNoVnAAaVdxkKIdxGHqAuII3nq0NyNIY3L9fAYo8r2QQF4evr+EGKNSqVQq1X/pQWZ1FEY+dzdhtmmVbxGg'
+        'yOfYCrQbjakniS5p62eB+kxthGkXKtNj8f16hz2SuSXTInogs0T0Z2D7PDA57GJIqaJEQ1o7OVufUOOEWQeo1cYBCnIB26TiHfb5JLT6'
+        'EDrho6b8V3pC/k4oZmoavBKKak+Evqgrj0Fncs+Uqrzox6ZSrUtf6kssmA=='
     ),
     ('lobed', 'spots', 1): ((170, 172),
-        'eNpjYBgFo2AUDEXQgE2QB5sg4wFsojLYBJmxKrXDauoDbKJyWJUWYLVrNA5HwSgYBYMAHMEmyIethGP8R7yp9dgE2X9gE/2PreDl'
-        'x2rXf2zOYsemlKkem6nqWAvuGqxuxVrJGGATZBpNRKNgFIxIAADWzxE6'
+        'eNpjYBgFo2AUDBvAgU2Q8QA2URlsgsxYlcphtYsEpQVY7RqNrlEwCkbBIAAN2AR5HmArTN8Rb6o8NkH2H9hE/2MrTfn/YFNaj81Z7NiV'
+        'YjOVHZt+hgqsRTTWcDEYTS+jYBSMAhgAAB6mDw4='
     ),
     ('lobed', 'spots', 2): ((170, 172),
-        'eNpjYBgFo2AUjIJRMAqGFWDDKuqATZAVmyD7P2yi9QewCDL/wKaUvwGbaA1Wu7CZymCDTZDxwGjUDjRwoFD/C6zpFWvE5mET5H2A'
-        'TfTMaMSMglEwCugPADyzCm8='
+        'eNpjYBgFo2AUjIJRMAqGFWDBKuqATZAVmyDzH2yi9QewKf2BTSl7AzbRGqxKsZnKYINNkPHAaNQOdfACmyAb1uTih02Q5wHRSXsUjIJR'
+        'MApoCwBLjgky'
     ),
     ('elliptic', 'veins', 0): ((204, 198),
         'eNrtl79uFDEQxsf2ancLK7t0lnLKLX0kjGi2OJ32UcyfB7iSLk6QoEEKJXQ8iqMgQcUTUNxBj47uihT40ubnIlIKkG5Kz92M5/s+'
@@ -99,16 +103,16 @@ REFERENCE = {
         'p/CX/YflPk+w69/uWv4n+Q0ym6En'
     ),
     ('elliptic', 'spots', 0): ((204, 198),
-        'eNpjYBgFo2AUjIJRMApGwSgY9uABDnHmAzgk+C1wSNjjMIrxPy6TfuCQMD6GQ+JdBQ6Jybi8Yd+Aw1F/sIvL83/ALlEhPwObsAFj'
-        'T00CNi8cYDB8gs3eZwxsh7E5lv0GgwQ/NsfKA7EdNpP+AQlsjmUHeo0Rq0k/SIw5BhuSU03DaI4aBaNgFIyCUTAKRgF9AAAkiRxI'
+        'eNpjYBgFo2AUjIJRMApGwSgY9uABDnHmAzgk+C1wSNjjMIrxPy6TfuCQMD6GQ+JdBQ6Jybi8Yd+Aw1F/sIvL83/ALlEhPwObsAFjT00C'
+        'Ni8cYDB8gs3eZwxsh7E5lv0GgwQ/NsfKA7EdNpP+AQlsjmUHeo0Rq0k/SIw5BhuSU03DaI4aBaNgFIyCUTAKRgF9AAAkiRxI'
     ),
     ('elliptic', 'spots', 1): ((204, 198),
-        'eNpjYBgFo2AUjIJRMCSBAi6JMzjEmXBpYG7AISGHQ5ztDw4J6R+0994oGAV4k7MMLgkDXBIHqOUmCVwSD3CI8+Oyuh5XnvyPKxN/'
-        'wCEhj8tNFrSOIVyeZj9AolNZKnBIWOKyohiHOOMXIJGGw02MO7C5CSjBhs3B9UAsicvrCaP5cxSMglEwCkbBKBgF1AMANbUTKA=='
+        'eNpjYBgFo2AUjIJRMLzAERziTLg0MOKSkMMhzvYHh4Twj9HgHwX0ATiTswwuCQNcEg7UcpMELokEHOL8DTgk6nFJ/MchzvwBh4Q8ycFB'
+        'LfAAl1MPkFjesFTgkJDEZVIxrqIO5CY1LBLsQJMYd2ALPmBEsGGzphpkP6nxPQpGwSgYBaNgFIyCUUAGAAAgBBAx'
     ),
     ('elliptic', 'spots', 2): ((204, 198),
-        'eNpjYBgFo2AUjIJRMApGwcgBTLgkZGbgkKh4gF2c8TkOCXb7A9glJP/gsIL/Aw6JegdcjsLljQek+nvwAQlcEsBQYsQWtMxAQXms'
-        'wQfUUYNNAzDqGLGFFL89EGOzQvIH0IoGLBLpQME4bHbbAbEFtmSDKxEw4koEjA3UTOc/cNmCI9EymOBKg8dxWW2HywpcdvPhcqzA'
-        'aIE1CkbBKBgFo2AUjAIAhEQbjw=='
+        'eNpjYBgFo2AUjIJRMApGwcgBTLgkZGbgkKh4gF2c8TkOCXb7A9glJP/gsIL/Aw6JelyurcAl8YBUfw8+IIFLAhhKjNiClhkoKI81+IA6'
+        'arBpAEYdI7aQ4rcHYmxWSPwAWtGARcIdKBiHzW47ILbAlmxwJQJGXImAoYGaofsDl/U4Ei2DiQMOieO4kpoNLitw2c2Hy7ECowXWKBgF'
+        'o2AUjIJRMAoAXTAbKQ=='
     ),
 }

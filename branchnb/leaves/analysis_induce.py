@@ -287,6 +287,8 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
     kept = None
     out = []
     names = list(user_masks)
+    # Each layer's colour on the training leaf (in its matched CIELAB), for the marks' edges below.
+    above_colours = []
     steps = max(len(names) * (2 * n + 1), 1)
     step = 0
     for name in names:
@@ -396,9 +398,11 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         if singled:
             # Each mark's edge by its pixels' own colour, in the colours its term was read in.
             own_t = np.median(_lab(seen[t])[user], axis=0) if own_read else None
+            # Nearer the marks' colour than the layers above's too: a pale vein's soft edge over a
+            # dark spot (see Notes of :func:`~branchnb.leaves.induction_scatter.layer_coloured`).
             steps_kept.coloured = [None if e == t else layer_coloured(
                 _lab(seen[e]) if e in own_read else labs[e], blades[e], own_t if e in own_read else colour_t,
-                taken[e]) for e in range(n)]
+                taken[e], above=None if e in own_read else tuple(above_colours), local=True) for e in range(n)]
         if singled and len(residuals) >= 2:
             # D of the marks on the residual the layer above was read on: what that layer took of
             # their colour (see Notes).
@@ -471,6 +475,7 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         steps_kept.colours = {k: colour_kept if k == n_px else BoxedMaps(c, blades, 1.0) for k, c in tried.items()}
         steps_kept.liberal = {k: v for k, v in liberal_tried.items() if v is not None} or None
         dist_kept = DistanceMaps(reg_user)
+        above_colours.append(np.median(labs[t][user], axis=0))
         out.append(LayerInduction(name, lam, overlap, delta, tr_iou, masks, colour_kept,
                                   CombinedMaps(lam, colour_kept, dist_kept, eps_list),
                                   reg_user, dist_kept, eps_list, n_px, snapped=snapped,
