@@ -37,8 +37,10 @@ MIX_TOL = 0.04
 MIN_MIXED = 0.9
 
 
-def _surface(gray: np.ndarray, order: int = 2, iters: int = 4, step: int = 4):
-    """Robust polynomial fit of ``gray`` over (x, y): ``(surface, residual, ground mask, robust sd)``."""
+def _surface(gray: np.ndarray, order: int = 2, iters: int = 4, step: int = 4, max_sd: float = np.inf):
+    """Robust polynomial fit of ``gray`` over (x, y): ``(surface, residual, ground mask, robust sd)``; None
+    when the fit fails or the ground's robust sd exceeds ``max_sd`` (checked on the subsampled fit, before the
+    full-size surface is evaluated: a textured photo is turned away in a few milliseconds)."""
     h, w = gray.shape
 
     def design(yy, xx):
@@ -57,6 +59,8 @@ def _surface(gray: np.ndarray, order: int = 2, iters: int = 4, step: int = 4):
         res = v - a @ coef
         sd = 1.4826 * float(np.median(np.abs(res[keep]))) + 1e-4
         keep = np.abs(res) <= max(3.0 * sd, 0.01)
+    if sd > max_sd:
+        return None
     yy, xx = np.mgrid[0:h, 0:w]
     surf = (design(yy.astype(np.float64), xx.astype(np.float64)) @ coef).reshape(h, w)
     res = gray - surf
@@ -75,7 +79,7 @@ def _silhouette(image):
         rgb, g = None, img[..., 0]
     if min(g.shape) < 16:
         return None
-    fit = _surface(g)
+    fit = _surface(g, max_sd=SMOOTH_SD)
     if fit is None:
         return None
     surf, res, ground, sd = fit
