@@ -6,34 +6,7 @@ import pytest
 from scipy import ndimage as ndi
 
 from branchnb.trees import TreeLibrary
-from branchnb.trees._measure_sticker import _BORDERS, _INKS, sticker_tree
-
-
-def _inner(img, border_colour):
-    """The mix without its border ring (and the anti-aliased step next to it), and its depth."""
-    alpha = img[..., 3] >= 0.5
-    depth = ndi.distance_transform_edt(alpha)
-    rgb = img[..., :3]
-    near_b = alpha & (np.linalg.norm(rgb - np.asarray(border_colour), axis=2) <= 0.2)
-    lab, _ = ndi.label(near_b, structure=np.ones((3, 3), bool))
-    ids = np.unique(lab[alpha & (depth < 1.5) & near_b])
-    ring = ndi.binary_dilation(np.isin(lab, ids[ids > 0]), structure=np.ones((3, 3), bool)) & alpha
-    inner = alpha & ~ring
-    return inner, ndi.distance_transform_edt(inner)
-
-
-def _specks(img, ink, border_colour):
-    """Dark (ink-coloured) pieces under 12 px not touching the outline ring."""
-    inner, di = _inner(img, border_colour)
-    dark = inner & (np.linalg.norm(img[..., :3] - np.asarray(ink), axis=2) <= 0.3)
-    lab, n = ndi.label(dark, structure=np.ones((3, 3), bool))
-    if not n:
-        return 0
-    idx = np.arange(1, n + 1)
-    sizes = np.asarray(ndi.sum(dark, lab, idx))
-    ring = ndi.binary_dilation(inner & (di < 1.5), structure=np.ones((3, 3), bool))
-    on = np.asarray(ndi.maximum(ring, lab, idx)) > 0
-    return int(((sizes < 12) & ~on).sum())
+from branchnb.trees._measure_sticker import _BORDERS, _INKS, _inner, _specks, sticker_tree
 
 
 def _library(size, spec_seed, border, outline, bc, ink, fills, work):

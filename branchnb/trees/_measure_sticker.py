@@ -146,9 +146,8 @@ def _rings(img: np.ndarray, ink, border_colour) -> tuple[float, float, float]:
     return cover, bw, ow
 
 
-def _specks(img: np.ndarray, ink, border_colour) -> int:
-    """Dark (ink-coloured, within 0.3) pieces under 12 px inside the border not touching the outline
-    ring: the warped outline's remnants at the crown's notches and sides (trees55)."""
+def _inner(img: np.ndarray, border_colour) -> tuple[np.ndarray, np.ndarray]:
+    """The mix without its border ring (and the anti-aliased step next to it), and the depth inside that."""
     alpha = img[..., 3] >= 0.5
     depth = ndi.distance_transform_edt(alpha)
     rgb = img[..., :3]
@@ -157,8 +156,14 @@ def _specks(img: np.ndarray, ink, border_colour) -> int:
     ids = np.unique(lab[alpha & (depth < 1.5) & near_b])
     ring = ndi.binary_dilation(np.isin(lab, ids[ids > 0]), structure=np.ones((3, 3), bool)) & alpha
     inner = alpha & ~ring
-    di = ndi.distance_transform_edt(inner)
-    dark = inner & (np.linalg.norm(rgb - np.asarray(ink), axis=2) <= 0.3)
+    return inner, ndi.distance_transform_edt(inner)
+
+
+def _specks(img: np.ndarray, ink, border_colour) -> int:
+    """Dark (ink-coloured, within 0.3) pieces under 12 px inside the border not touching the outline
+    ring: the warped outline's remnants at the crown's notches and sides (trees55)."""
+    inner, di = _inner(img, border_colour)
+    dark = inner & (np.linalg.norm(img[..., :3] - np.asarray(ink), axis=2) <= 0.3)
     lab, n = ndi.label(dark, structure=np.ones((3, 3), bool))
     if not n:
         return 0
