@@ -93,6 +93,11 @@ class _Generations:
             self.max_total = _hub_budget(self.model, len(starts.hubs), starts.scale, len(starts))
             self.coverage_target, self.radial = 1.0, True
             self._gen_cap = _generation_caps(self.model, len(starts))
+            from . import radial_bearing
+
+            if radial_bearing.RADIAL_BEARING:   # and they run outward as the example's lines do
+                self.radial_bearing = radial_bearing._radial_weights(self.model)
+                self.hub_array = np.asarray([tuple(map(float, h[:3])) for h in starts.hubs], np.float64)
         queue = []
         for (x, y, th) in starts:
             if self.global_stop():

@@ -74,6 +74,7 @@ from .guidance import Guidance
 from .meander_hold import example_meander, meander_factor
 from .model import StructureModel
 from .params import SynthesisParams
+from .radial_bearing import _radial_factor
 from .scoring import _continue_radii, score_candidates
 from .stopping import (
     FILL_LENGTH_FACTOR,
@@ -266,6 +267,8 @@ class _Grower(_FrameRules, _Selection, _Generations, _Starts, _Filling):
         self.turn_limit = entry_turn_limit(model.example) if self.frame_band > 0 and self.drain is None \
             else float("inf")
         self.radial = False   # roots are hub primaries (set by run)
+        self.radial_bearing: np.ndarray | None = None   # radial: outward bearing weights (.radial_bearing)
+        self.hub_array: np.ndarray | None = None   # radial: the hubs (x, y, r) the primaries leave
         self._gen_cap: dict = {}   # radial: children per generation at most (.radial._generation_caps)
         self._empty_dt: np.ndarray | None = None
         self.attempt = 1
@@ -395,6 +398,8 @@ class _Grower(_FrameRules, _Selection, _Generations, _Starts, _Filling):
                     score = np.where(live, score * self._frame_factor(tip, dirs, cs.D_c), score)
             if self.tropism is not None:
                 score = score * _tropism_factor(self.tropism, tip, pts, n_arr)
+            if self.radial_bearing is not None:
+                score = score * _radial_factor(self.radial_bearing, self.hub_array, tip, pts, n_arr)
             if self.drain is not None:
                 score = score * self.drain.factor(
                     tip, pts, n_arr, start=st.points[0], fan=st.fan,

@@ -77,7 +77,7 @@ class _Selection:
         return (self.scorer is score_candidates and self.guidance is None and self.drain is None
                 and self.shore is None and st.goal is None and st.mouth is None
                 and not (self.frame and st.parent is None) and not self.keep_in and self.tropism is None
-                and self.meander is None)
+                and self.meander is None and self.radial_bearing is None)
 
     def _plain_step(self, st, tip, t: np.ndarray, L: int):
         """``(stopped, score, points, chosen)`` of a plain step over the candidate windows ``t``
