@@ -205,7 +205,11 @@ def _is_body(index, part, n_pairs: int) -> bool:
     if n_pairs != 1 or part.tip is not None:
         return False
     reach = 2.0 * float(index.half_width(part.stroke, 0.0)) + 2.0
-    return bool(part.s <= reach and part.area > _own_area(index, part.stroke))
+    # a piece the stroke also touches past the middle of its length is no body it grows out of but
+    # a loop between its two cut ends (the rest of a rope: at 64 px its contact at the start came out
+    # largest, and carried unturned it hung beside the new rope whole; at 128 px and more it is a loop)
+    far = [s for j, s in part.anchors if j == part.stroke and s > max(reach, 0.5 * index.strokes[part.stroke].length)]
+    return bool(part.s <= reach and part.area > _own_area(index, part.stroke) and not far)
 
 
 def _trim_body(index, part) -> None:
