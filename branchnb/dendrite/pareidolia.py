@@ -292,7 +292,8 @@ from .importance import ImportanceParams, darkness, importance_map
 from .lattice import Lattice, direction_factors, node_weights
 from .pareidolia_crown import _FORK_SPAN, _content, _fork_point, content_crown, side_ramp, tree_crown  # noqa: F401
 from .pareidolia_params import PareidoliaParams
-from .pareidolia_widths import _feature_cover, _features, _refine_tone, _shrink, _stretch, _thickness
+from .pareidolia_widths import (_feature_cover, _features, _refine_tone, _shrink, _stretch, _thickness,
+                                _tone_map)
 from .planner import plan
 from .render import Rendering
 from .scale import resample_to_lattice
@@ -375,6 +376,9 @@ class PareidoliaTree:
 _MAX_ENDPOINTS = 60000
 _DARK_TWIGS = 3.0
 _DARK_FROM = 0.6
+#: Most mean darkness of the crown after the stretch (``pareidolia_widths._tone_map``; 0:
+#: none); photos of ordinary exposure (portraits, a cat, a camera man) stretch to 0.45-0.51.
+_TONE_MEAN = 0.5
 #: Darkness the twigs aim at on the blank ground inside a tree crown round an object.
 _GROUND_TONE = 0.15
 #: Extra random endpoints on that ground, per stippled endpoint and share of the crown.
@@ -486,7 +490,7 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
         p = dataclasses.replace(p, pipe=p.pipe / float(np.sqrt(more)))
     # the limbs follow the linear stretch; the twigs' tone the half-equalised one
     dark_limbs = _stretch(dark, crown, p.contrast, equalize=0.0)
-    dark = _stretch(dark, crown, p.contrast)
+    dark = _tone_map(_stretch(dark, crown, p.contrast), crown, _TONE_MEAN * (p.contrast > 0))
     # the blank ground a tree crown round an object holds gets light but solid twigs, so
     # the crown reads as a crown (matched to white they were sub-pixel grey wisps)
     ground = np.zeros((h, w), bool)
@@ -607,7 +611,8 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
     if p.refine > 0 and bounds:
         big = resize(crown.astype(np.float32), shape_full, order=0) > 0.5 \
             if shape_full != (h, w) else crown
-        dark_out = _stretch(darkness(canvas), big, p.contrast)
+        dark_out = _tone_map(_stretch(darkness(canvas), big, p.contrast), big,
+                             _TONE_MEAN * (p.contrast > 0))
         if ground.any():
             g = resize(ground.astype(np.float32), shape_full, order=0) > 0.5 \
                 if shape_full != (h, w) else ground
