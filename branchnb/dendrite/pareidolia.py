@@ -292,8 +292,7 @@ from .importance import ImportanceParams, darkness, importance_map
 from .lattice import Lattice, direction_factors, node_weights
 from .pareidolia_crown import _FORK_SPAN, _content, _fork_point, content_crown, side_ramp, tree_crown  # noqa: F401
 from .pareidolia_params import PareidoliaParams
-from .pareidolia_widths import (_feature_cover, _features, _refine_tone, _shrink, _stretch, _thickness,
-                                _tone_map)
+from .pareidolia_widths import _feature_cover, _features, _refine_tone, _shrink, _stretch, _thickness, _tone_map
 from .planner import plan
 from .render import Rendering
 from .scale import resample_to_lattice
