@@ -400,7 +400,13 @@ def _tone_map(dark: np.ndarray, crown: np.ndarray, mean: float = 0.5) -> np.ndar
     ``cover`` bends the ink toward its cap: the sky and the towers against it got nearly
     the same ink and the picture read only as a lighter column (the lit rocket). The
     power lightens the bulk of the tones and keeps the darkest dark, so what stands out
-    against a dark ground (towers, a figure) stays darker than it. Ranks are kept.
+    against a dark ground (towers, a figure) stays darker than it. Ranks are kept. On a
+    procedural wide night picture (dark sky, two darker towers, a lit column) the towers'
+    ink over the sky's next to them at 4 px blur went 0.27 -> 0.37, tone r at 4 px 0.80 ->
+    0.73; the rocket at 300 / 700 px 0.880 / 0.772 -> 0.857 / 0.761 (with the domed crown),
+    a darkened astronaut 0.921 -> 0.929 (``python -m branchnb.dendrite._dome_check``). A
+    linear scale to the same mean kept the tone scale straight but drew the towers worse
+    (0.22, r 0.78).
     """
     if mean <= 0 or not crown.any():
         return dark
