@@ -564,6 +564,11 @@ def test_pareidolia_night_sky_is_equalised(monkeypatch):
     img[(np.abs(xx - 40) < 2) & (yy > 80)] = 0.05
     img = ndimage.gaussian_filter(img, 1.0)
     r = {}
+    # the dark photos' tone map after the stretch (_TONE_MEAN, dendrite45) does much of what
+    # the equalisation does here (r at 4 px: linear 0.547 -> 0.656, half equalised 0.642 ->
+    # 0.641; at 2 / 8 px 0.485 / 0.675 -> 0.508 / 0.699): the equalisation is measured
+    # without it
+    monkeypatch.setattr(par, "_TONE_MEAN", 0.0)
     for eq in (0.0, 0.5):
         monkeypatch.setattr(par, "_stretch", functools.partial(_stretch_orig, equalize=eq))
         t = pareidolia_tree(img, PareidoliaParams(n_endpoints=600), rng=0)
