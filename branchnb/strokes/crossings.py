@@ -388,15 +388,21 @@ def _redraw_crowd(out: np.ndarray, cluster: list, placed: list, laid: list, stro
         for k, s0, s1, wk in stretches:
             a, b, ww = spans.get(k, (s0, s1, wk))
             spans[k] = (min(a, s0), max(b, s1), max(ww, wk))
+    band = np.zeros((r1 - r0, c1 - c0), bool)
+    for k, (s0, s1, wk) in spans.items():
+        band |= _band(attached[k].target, s0, s1, wk, box)
+    lab = labels[box]
+    if ((lab >= 0) & band & ~np.isin(stroke_of[lab], list(spans))).any():
+        # (another stroke or a carried part within the passes' bands -- tentacles crowding at an
+        # octopus's head --: its joints and outline are others' business, left as the cut laid them)
+        return
     rank = _rank(index, list(spans))
     # owner of each pixel: (stroke, arc length) of the top pass whose silhouette covers it, by
     # painting the passes' disks from the lowest key up (the last painted wins)
     own_k = np.full((r1 - r0, c1 - c0), -1, np.intp)
     own_s = np.zeros((r1 - r0, c1 - c0))
-    band = np.zeros((r1 - r0, c1 - c0), bool)
     for k in sorted(spans, key=rank.get):
         s0, s1, wk = spans[k]
-        band |= _band(attached[k].target, s0, s1, wk, box)
         s = np.arange(s0, s1 + 0.25, 0.5)
         pts = attached[k].target.point_at(s)
         rad = index.edge_width(k, attached[k].source_arc_length(s)) + 1.0
