@@ -338,7 +338,9 @@ def crossed_over(layer: np.ndarray, placed: list, laid: list, labels: np.ndarray
 
 
 #: A patch may lay a pixel of a crowded crossing's pass only if its sample lies within this many
-#: patch radii (along the stroke) of the pixel's top pass's nearest point (see :func:`_redraw_crowd`).
+#: patch radii (along the stroke) of the pixel's top pass's nearest point (see :func:`_redraw_crowd`):
+#: a patch square reaches ~1.4 radii along a straight stroke (its corners); the passes of the
+#: loops measured (coils, 3-petal roses, loops with no hole, 160-1000 px) lie >= 3 radii apart.
 _SAME_PASS = 1.5
 
 
