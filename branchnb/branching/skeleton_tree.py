@@ -224,6 +224,11 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
         With ``root="auto"`` a piece holding hubs is rooted at them (each hub a
         tree; the piece split where their shortest paths meet), unless it is a
         line map's piece that drains into ``region`` (beyond the paper).
+    shore : (H, W) bool array_like, optional
+        A coast whose drawn line was taken out of the skeleton (an engraved
+        map's hatched sea): a piece reaching within 4 px of it is kept from
+        half ``min_component_length``, as one cut by the frame (the river ran
+        on into the removed coast line), beyond the paper. None: no such coast.
 
     Returns
     -------
