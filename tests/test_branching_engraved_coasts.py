@@ -278,3 +278,54 @@ def test_a_river_cut_at_the_shore_is_kept_from_half_length():
 
     with pytest.raises(ValueError, match="shore"):
         skeleton_to_structure(sk, np.full(sk.shape, 1.5), shore=np.zeros((10, 10), bool))
+
+
+def _streaks(H, seed):
+    """Wood-like streaks: noise stretched along one direction, parallel but at no regular spacing."""
+    t = ndi.gaussian_filter(np.random.default_rng(seed).normal(0, 1, (H, H)), (0.8, 12))
+    return np.clip(0.6 + 0.15 * (t - t.mean()) / t.std(), 0, 1).astype(np.float32)
+
+
+def _grained_soil_roots(H, seed):
+    """Pale roots on a grained dark soil: the soil's texture reads as parallel along the roots."""
+    rng = np.random.default_rng(seed)
+    n = rng.normal(0, 1, (H, H))
+    tex = ndi.gaussian_filter(n, 1.0) * 0.5 + ndi.gaussian_filter(n, 2.0) * 2.0
+    g = 0.26 + 0.03 * (tex - tex.mean()) / tex.std()
+    yy = np.arange(H, dtype=float)
+    for k, x0 in enumerate((0.25, 0.5, 0.75)):
+        x = H * x0 + 0.06 * H * np.sin(yy / H * 5 + k)
+        d = np.abs(np.arange(H)[None, :] - x[:, None])
+        g = np.where(d <= np.linspace(3.5, 1.5, H)[:, None], 0.78, g)
+    return g.astype(np.float32)
+
+
+def _jittered_hatching(H, jitter, seed):
+    """Hatching whose line spacing is jittered (std ``jitter`` of it) round a plain island with a coast line."""
+    rng = np.random.default_rng(seed)
+    yy, xx = np.mgrid[0:H, 0:H].astype(float)
+    a = np.radians(33 + 40 * seed)
+    sp = max(4, H // 70)
+    u = -np.sin(a) * xx + np.cos(a) * yy
+    k = np.floor(u / sp)
+    offs = rng.normal(0, jitter * sp, int(k.max() - k.min()) + 3)
+    ink = np.clip(1.1 - np.abs(u - k * sp - offs[(k - k.min()).astype(int)] - sp / 2), 0, 1)
+    d = np.hypot(xx - H / 2, yy - H / 2)
+    ink[d < 0.3 * H + 3] = 0
+    ink[np.abs(d - 0.3 * H) < 1.2] = 1
+    return (0.92 - 0.82 * ink).astype(np.float32), d < 0.3 * H
+
+
+def test_parallel_texture_at_no_regular_spacing_is_no_hatched_sea():
+    # before (branching108, reverted): the grained soil along pale roots was 11-21 % hatched sea, whose outline
+    # step then broke tests/test_branching_flat_lines.py; wood streaks 94-96 %. Hatching is lines at a
+    # regular spacing: the pieces' periodic share 0.0-0.27 here, 0.99-1.0 on the engraved maps
+    for H, seed in ((128, 4), (240, 3)):
+        assert not hatched_background(_grained_soil_roots(H, seed)).any(), (H, seed)
+    for H, seed in ((128, 0), (300, 1)):
+        assert not hatched_background(_streaks(H, seed)).any(), (H, seed)
+    # hatching drawn by hand, its spacing jittered by a fifth, still is a sea (periodic share 0.59-0.92)
+    for H, seed in ((200, 1), (400, 3)):
+        g, land = _jittered_hatching(H, 0.2, seed)
+        sea = hatched_background(g)
+        assert (sea & ~land).sum() / (sea | ~land).sum() >= 0.95, (H, seed)
