@@ -130,7 +130,12 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
         channels (a sea) are no branches, and braided channels (cycles) are
         cut into a tree where the two fronts of the shortest-path tree meet.
         Outlines of large flat regions touching the border (a country
-        border, a coast line) are no branches either. Strokes of several
+        border, a coast line) are no branches either; nor, on an engraved
+        map, the coast along its hatched sea
+        (:func:`~branchnb.branching.hatched_seas.erase_hatched_sea`, beyond the
+        paper: the land's paper is the sea's, the outline is told by the sea's
+        mask), whose rivers keep their mouth (a piece cut there is kept from
+        half ``min_component_length``) and are rooted at the sea. Strokes of several
         colours on one plain paper (an ornament's black stroke with a
         coloured inner line) are traced as one ink mask
         (:func:`~branchnb.branching.ridges.multi_colour_ink`). Drawn strokes broken
@@ -214,17 +219,17 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
         p = dataclasses.replace(p, **overrides)
     check_params(p)
     gray = gray_for_extraction(image)
-    hatched = False
+    hatched_sea = None
     if line_colour is None or isinstance(line_colour, str):
         # an engraved map's sea is parallel hatching, not rivers: erased to the paper (.hatched_seas)
-        from .hatched_seas import without_hatched_sea
+        from .hatched_seas import erase_hatched_sea
 
-        erased_image, erased_gray = without_hatched_sea(image, gray)
-        if erased_gray is not gray:
-            # its coast is then the outline of a flat region (the paper where the hatching was), taken out
-            # by the ridge route's outline test; the binary route would trace it as a line
+        erased_image, erased_gray, hatched_sea = erase_hatched_sea(image, gray)
+        if hatched_sea is not None:
+            # its coast is then the outline of the sea (taken out by the ridge route's outline test against
+            # the sea's mask: the land's paper is the sea's, no colour tells them apart); the binary route
+            # would trace it as a line
             image, gray = erased_image, erased_gray
-            hatched = True
             if p.binary == "auto":
                 p = dataclasses.replace(p, binary="off")
     colour_image = image          # the region colours, before any ink map replaces the image below
@@ -282,7 +287,7 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
                                        return_maps, root_point, flat_regions=False, frame_reach=True)
     if p.binary == "on" or (p.binary == "auto" and shape_width is None and is_binary(gray)):
         return _extract_binary(gray, p, mask, return_maps, root_point, colour=colour_image)
-    if p.binary == "auto" and shape_width is None and hue is None and not hatched:
+    if p.binary == "auto" and shape_width is None and hue is None and hatched_sea is None:
         # one solid ink on a smooth shaded ground (a winter tree against the sky): binary once the shading is
         # gone, and traced by its medial axis (the ridge filter broke a trunk from its twigs, .smooth_ground)
         from .smooth_ground import flattened_silhouette
@@ -350,6 +355,14 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
     wide_axis = skel & near_wide if wide.any() else None
     outside = border_flat_regions(work, 4 * p.sigma_max, branches=bw)
     skel &= ~outline_pixels(skel, outside, 2 * p.sigma_max + 2, gray=ndi.median_filter(work, 3))
+    if hatched_sea is not None:
+        sea_w = hatched_sea if hatched_sea.shape == skel.shape else \
+            resize(hatched_sea.astype(np.float32), skel.shape, order=0) > 0.5
+        skel &= ~outline_pixels(skel, sea_w, 2 * p.sigma_max + 2)
+        # the coast's outline was taken out up to that reach: a river cut there ran on to the coast
+        shore = ndi.distance_transform_edt(~sea_w) <= 2 * p.sigma_max + 2
+    else:
+        sea_w = shore = None
     rgb = as_rgb(colour_image)
     if rgb.shape[:2] != skel.shape:
         rgb = rescale(rgb, p.scale, anti_aliasing=True, channel_axis=-1)
@@ -410,14 +423,15 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
     region = None
     root = p.root
     if root in ("nearest_region", "auto"):
-        region = flat_background(work, bw, 4 * p.sigma_max)
+        # an engraved map's land has the sea's paper: its hatched sea is the region its rivers drain to
+        region = flat_background(work, bw, 4 * p.sigma_max) if sea_w is None else sea_w
     joins = find_stroke_joins(skel, radius, bw, max_gap=p.join_gaps, scale=p.scale)
     s = skeleton_to_structure(skel, radius, h=p.h, min_branch_length=p.min_branch_length,
                               min_component_length=p.min_component_length,
                               root=root if root_point is None else root_point,
                               scale=p.scale, smooth=p.smooth_path, smooth_radius=p.smooth_radius,
                               image_shape=gray.shape[:2], region=region, joins=joins,
-                              close_cycles=p.close_cycles, hubs=[h.centre for h in hubs])
+                              close_cycles=p.close_cycles, hubs=[h.centre for h in hubs], shore=shore)
     if p.centre_reach > 0 and s.branches:
         from .centring import centre_on_lines
 

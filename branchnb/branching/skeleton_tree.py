@@ -141,7 +141,7 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
                           scale: float = 1.0, smooth: float = 4.0,
                           smooth_radius: float = 8.0, image_shape=None, region=None,
                           spur_factor: float = 2.0, joins=None, close_cycles: float = 0.0,
-                          hubs=None) -> Structure:
+                          hubs=None, shore=None) -> Structure:
     """Convert a one-pixel skeleton into a tree of branches.
 
     Each connected piece becomes one tree: a root end point is chosen
@@ -224,6 +224,11 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
         With ``root="auto"`` a piece holding hubs is rooted at them (each hub a
         tree; the piece split where their shortest paths meet), unless it is a
         line map's piece that drains into ``region`` (beyond the paper).
+    shore : (H, W) bool array_like, optional
+        A coast whose drawn line was taken out of the skeleton (an engraved
+        map's hatched sea): a piece reaching within 4 px of it is kept from
+        half ``min_component_length``, as one cut by the frame (the river ran
+        on into the removed coast line), beyond the paper. None: no such coast.
 
     Returns
     -------
@@ -285,6 +290,13 @@ def skeleton_to_structure(skeleton, radius, *, h: float = 4.0, min_branch_length
     # of the line is outside the image (a crop's rivers entering from its frame)
     comp_frame = np.full(n_comp, np.inf)
     np.minimum.at(comp_frame, comp, border_dist[ys, xs])
+    if shore is not None:
+        sh = np.asarray(shore, bool)
+        if sh.shape != sk.shape:
+            raise ValueError(f"shore must have the skeleton's shape {sk.shape}, got {sh.shape}")
+        if sh.any():
+            # a river that met the removed coast line: its mouth is where the piece was cut (beyond the paper)
+            np.minimum.at(comp_frame, comp, ndi.distance_transform_edt(~sh)[ys, xs])
     min_len = np.where(comp_frame <= 4.0 * scale, 0.5 * min_component_length, min_component_length)
     # small examples (issue 23): see _small_frame_key
     small = max(hh, ww) / scale <= SMALL_SIDE
