@@ -21,6 +21,7 @@ from .child_angles import _AngleMatch, _head_angles
 from .domains import FAN_SPLIT, HEAD_PULL, MOUTH_TURN, fan_spread, head_share
 from .furcation import vertex_angles
 from .scoring import _DIRECTION_BINS
+from .tropism import _tropism_factor
 
 __all__: list[str] = []
 
@@ -442,6 +443,8 @@ class _Starts:
         score = np.where(inside, score, 0.0)
         if parent is not None:   # the whole head in the frame (LEAVE_FRAME)
             score = score * self._leave_factor(x0, new, n, score)
+        if self.tropism is not None:   # a head heads where the example's lines head too (.tropism)
+            score = score * _tropism_factor(self.tropism, x0, new, n + 1)
         if self.drain is not None and parent is not None:  # downstream, not along or into the land's frame
             # a channel leaving the trunk at or below the delta's head heads apart by its furcation angle
             fan = self.drain.head and self.branches[parent].parent is None
@@ -909,7 +912,9 @@ class _Starts:
             dom is not None, st._head, st._next, st._seg, st.p0, st.p1, st.n, st.cell, self._cap(), int(p.c), 1e-9,
             r_scale)
         f = self._leave_factor(x0, new, n, score)
-        if not np.isscalar(f) and (f < 1.0).any():   # the whole head in the frame (LEAVE_FRAME): chosen again
+        if self.tropism is not None:   # a child heads where the example's lines head too (.tropism)
+            f = f * _tropism_factor(self.tropism, x0, new, n + 1)
+        if not np.isscalar(f) and (f != 1.0).any():   # (LEAVE_FRAME, tropism): chosen again
             score = score * f
             chosen = _kernels.ranked_free(score, np.asarray(x0, np.float64), np.ascontiguousarray(new, np.float64),
                                           np.asarray(n + 1, np.int64), st._head, st._next, st._seg, st.p0, st.p1,

@@ -14,6 +14,16 @@ example's length-weighted histogram of absolute bearings (the direction of
 each segment in the image), and :func:`_tropism_factor` weighs a candidate
 continuation by how common its bearing is in the example. The pull is a
 drift term of its own, not the paper's: it does not depend on depth.
+
+The same factor weighs the head a branch starts with (a child's copied input
+head, :mod:`.branch_starts`), from the fork to the head's last vertex: with
+the Markov steps alone a winter tree growing up from the ground (issue 23, branching111)
+started its children sideways or down at the fork, and steps that only
+re-weigh their few candidates went on that way (128-1000 px: up to 0.45 of
+the output's length more than 100 deg from up, the example's 0-0.18; the
+trunk hooked over, the crown leaned as a bush). A structure that fits no
+tropism (roots inside the frame, or lines not running away from their side:
+the retina, lightning_noaa, cracked mud, the Czech map) is unchanged.
 """
 
 from __future__ import annotations
@@ -33,6 +43,10 @@ TROPISM_FLOOR = 0.1
 #: The weights are the smoothed histogram to this power: at 1 a root system's output (512 px) still ran
 #: 73-89 % of its length down against the example's 98 %.
 TROPISM_POWER = 2.0
+#: A Markov step whose bearing weighs less than this (the mean is 1) is not taken, and a branch with no
+#: other step ends: a step only re-weighs its candidates, and where all of them turn one way (a small
+#: example's few windows) a winter tree's trunk (128 px) still hooked over to point down.
+TROPISM_STOP = 0.25
 #: Inward normal (x, y) of the frame sides, as numbered by :func:`.roots.boundary_frame`.
 _INWARD = {0: (0.0, 1.0), 1: (0.0, -1.0), 2: (1.0, 0.0), 3: (-1.0, 0.0)}
 
