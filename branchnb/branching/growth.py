@@ -88,7 +88,7 @@ from .stopping import (
     winding_limit,
 )
 from .straightness import RUN_MIN_MEAN, BendHistogram, StraightRuns
-from .tropism import TROPISM_STOP, _tropism_factor
+from .tropism import _tropism_factor
 
 # the stopping rules' names (split to .stopping) and the bounds' (split to .growth_bounds) stay importable
 # from here; step() reads RADIUS_PULL, TAPER_LIKENESS and TAPER_RESOLVED from this module, _share
@@ -394,15 +394,7 @@ class _Grower(_FrameRules, _Selection, _Generations, _Starts, _Filling):
                     dirs = end / np.maximum(np.hypot(end[:, 0], end[:, 1]), 1e-9)[:, None]
                     score = np.where(live, score * self._frame_factor(tip, dirs, cs.D_c), score)
             if self.tropism is not None:
-                ft = _tropism_factor(self.tropism, tip, pts, n_arr)
-                # a branch heading where the example's lines hardly ever head ends there (.tropism.TROPISM_STOP)
-                live = n_arr > 0
-                if live.any() and (ft[live] < TROPISM_STOP).all():
-                    if sub is not None:
-                        return self.step(bi, full=True)
-                    st.stop = "tropism"
-                    return False
-                score = score * np.where(ft < TROPISM_STOP, 1e-9, ft)
+                score = score * _tropism_factor(self.tropism, tip, pts, n_arr)
             if self.drain is not None:
                 score = score * self.drain.factor(
                     tip, pts, n_arr, start=st.points[0], fan=st.fan,

@@ -17,13 +17,22 @@ drift term of its own, not the paper's: it does not depend on depth.
 
 The same factor weighs the head a branch starts with (a child's copied input
 head, :mod:`.branch_starts`), from the fork to the head's last vertex: with
-the Markov steps alone a winter tree growing up from the ground (issue 23, branching111)
+the Markov steps alone a winter tree growing up from the ground (issue 23)
 started its children sideways or down at the fork, and steps that only
-re-weigh their few candidates went on that way (128-1000 px: up to 0.45 of
-the output's length more than 100 deg from up, the example's 0-0.18; the
-trunk hooked over, the crown leaned as a bush). A structure that fits no
-tropism (roots inside the frame, or lines not running away from their side:
-the retina, lightning_noaa, cracked mud, the Czech map) is unchanged.
+re-weigh their few candidates went on that way. On 20 upright trees (two
+generators of the tests, 128 and 256 px, seeds 0-4) the
+length share of the output more than 100 deg from up fell from 0.10 to 0.04
+on average, on the trees that fit a tropism from up to 0.45 to at most 0.08
+(examples 0-0.17). A structure that fits no tropism is unchanged. Crack
+networks entering from one side can fit one (cracked mud 160 px, a 200 x 300
+crack mask: mean inward cosine 0.44-0.52): their children now head the way
+the cracks run too. A head leaving the frame is never favoured (the factor
+capped at 1): a crack mask's child pulled up out of the picture at its
+parent's end was a stub the drawing left out, a gap in the line. A step is
+only re-weighed, never refused: refusing steps
+under a quarter of the mean weight (branching111) changed none of those 20
+trees' down share and copied more of a cracked mud's ground (21 specks
+against the example's 10).
 """
 
 from __future__ import annotations
@@ -43,10 +52,6 @@ TROPISM_FLOOR = 0.1
 #: The weights are the smoothed histogram to this power: at 1 a root system's output (512 px) still ran
 #: 73-89 % of its length down against the example's 98 %.
 TROPISM_POWER = 2.0
-#: A Markov step whose bearing weighs less than this (the mean is 1) is not taken, and a branch with no
-#: other step ends: a step only re-weighs its candidates, and where all of them turn one way (a small
-#: example's few windows) a winter tree's trunk (128 px) still hooked over to point down.
-TROPISM_STOP = 0.25
 #: Inward normal (x, y) of the frame sides, as numbered by :func:`.roots.boundary_frame`.
 _INWARD = {0: (0.0, 1.0), 1: (0.0, -1.0), 2: (1.0, 0.0), 3: (-1.0, 0.0)}
 
