@@ -21,6 +21,7 @@ from .child_angles import _AngleMatch, _head_angles
 from .domains import FAN_SPLIT, HEAD_PULL, MOUTH_TURN, fan_spread, head_share
 from .furcation import vertex_angles
 from .scoring import _DIRECTION_BINS
+from .tropism import _tropism_factor
 
 __all__: list[str] = []
 
@@ -442,6 +443,8 @@ class _Starts:
         score = np.where(inside, score, 0.0)
         if parent is not None:   # the whole head in the frame (LEAVE_FRAME)
             score = score * self._leave_factor(x0, new, n, score)
+        if self.tropism is not None:   # a head heads where the example's lines head too (.tropism)
+            score = score * self._head_tropism(x0, new, n)
         if self.drain is not None and parent is not None:  # downstream, not along or into the land's frame
             # a channel leaving the trunk at or below the delta's head heads apart by its furcation angle
             fan = self.drain.head and self.branches[parent].parent is None
@@ -830,6 +833,16 @@ class _Starts:
             ok[2:] &= self._band_ok(full[1], full[2:], self._frame_dist(full[0]) >= self.frame_band)[0]
         return len(full) if ok.all() else int(np.argmin(ok))
 
+    def _head_tropism(self, x0, new: np.ndarray, n: np.ndarray) -> np.ndarray:
+        """The tropism's factor of candidate heads (first vertices ``new``, ``n`` copied elements), from
+        ``x0`` to a head's last vertex; a head leaving the frame is never favoured (at most 1): pulled out
+        of the picture at once it is a stub cut by the frame (a 200 x 300 crack mask growing up: a child
+        8 px long at its parent's end by the top edge, left out of the drawing as a burr, a gap)."""
+        f = _tropism_factor(self.tropism, x0, new, n + 1)
+        valid = np.arange(new.shape[1])[None, :] <= np.asarray(n, np.int64)[:, None]
+        ins = (self._inside(new.reshape(-1, 2)).reshape(new.shape[:2]) | ~valid).all(1)
+        return np.where(ins, f, np.minimum(f, 1.0))
+
     def _leave_factor(self, x0, new: np.ndarray, n: np.ndarray, score: np.ndarray) -> np.ndarray | float:
         """Score factor of a child's candidate heads (first vertices ``new``, ``n`` copied elements):
         :data:`LEAVE_FRAME` where :meth:`_head_cut` would cut the head short, else 1 (see :meth:`_child_leave`).
@@ -909,7 +922,9 @@ class _Starts:
             dom is not None, st._head, st._next, st._seg, st.p0, st.p1, st.n, st.cell, self._cap(), int(p.c), 1e-9,
             r_scale)
         f = self._leave_factor(x0, new, n, score)
-        if not np.isscalar(f) and (f < 1.0).any():   # the whole head in the frame (LEAVE_FRAME): chosen again
+        if self.tropism is not None:   # a child heads where the example's lines head too (.tropism)
+            f = f * self._head_tropism(x0, new, n)
+        if not np.isscalar(f) and (f != 1.0).any():   # (LEAVE_FRAME, tropism): chosen again
             score = score * f
             chosen = _kernels.ranked_free(score, np.asarray(x0, np.float64), np.ascontiguousarray(new, np.float64),
                                           np.asarray(n + 1, np.int64), st._head, st._next, st._seg, st.p0, st.p1,

@@ -14,6 +14,25 @@ example's length-weighted histogram of absolute bearings (the direction of
 each segment in the image), and :func:`_tropism_factor` weighs a candidate
 continuation by how common its bearing is in the example. The pull is a
 drift term of its own, not the paper's: it does not depend on depth.
+
+The same factor weighs the head a branch starts with (a child's copied input
+head, :mod:`.branch_starts`), from the fork to the head's last vertex: with
+the Markov steps alone a winter tree growing up from the ground (issue 23)
+started its children sideways or down at the fork, and steps that only
+re-weigh their few candidates went on that way. On 30 upright trees (the
+tests' two generators, 128-512 px, seeds 0-4) the length share of the output
+more than 100 deg from up fell from 0.11 to 0.04 on average; on the 27 that
+fit a tropism from up to 0.45 to at most 0.17 (the examples' 0-0.17).
+A structure that fits no tropism is unchanged. Crack
+networks entering from one side can fit one (cracked mud 160 px, a 200 x 300
+crack mask: mean inward cosine 0.44-0.52): their children now head the way
+the cracks run too. A head leaving the frame is never favoured (the factor
+capped at 1): a crack mask's child pulled up out of the picture at its
+parent's end was a stub the drawing left out, a gap in the line. A step is
+only re-weighed, never refused: refusing steps
+under a quarter of the mean weight (branching111) changed none of 20 of
+those trees' down share and copied more of a cracked mud's ground (21 specks
+against the example's 10).
 """
 
 from __future__ import annotations
