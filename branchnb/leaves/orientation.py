@@ -121,7 +121,28 @@ def mirrored_exemplars(blades, training_index: int, *, ratio: float = MIRROR_RAT
 
 
 def registered_blade_iou(registration, blade: np.ndarray, training_blade: np.ndarray) -> float:
-    """IoU of ``blade`` warped into the training frame by ``registration`` with ``training_blade``."""
+    """IoU of ``blade`` warped into the training frame by ``registration`` with ``training_blade``.
+
+    Parameters
+    ----------
+    registration : Registration
+        Exemplar -> training leaf.
+    blade : (H, W) bool array_like
+        The registered exemplar's blade.
+    training_blade : (H_t, W_t) bool array_like
+        The training leaf's blade.
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> from branchnb.leaves import leaf_family, normalise_exemplars, register
+    >>> c, b, _ = normalise_exemplars(leaf_family(2, size=96, rng=0))
+    >>> registered_blade_iou(register(c[1], c[0], b[1], b[0]), b[1], b[0]) > 0.9
+    True
+    """
     warped = registration.to_training(np.asarray(blade, bool))
     t = np.asarray(training_blade, bool)
     return float((warped & t).sum() / max(int((warped | t).sum()), 1))
