@@ -433,11 +433,15 @@ def analyze(exemplars, training_index: int, layers, params: InductionParams | No
         Seed of every random step (k-means, quilting); the analysis is reproducible.
     mirror : bool
         Turn over (left-right) every exemplar that is a mirror image of the
-        training leaf before registering it (default True; beyond the paper,
-        :func:`~branchnb.leaves.orientation.mirrored_exemplars`): leaves of
-        one kind face either way, and the paper's registration keeps
-        orientation. Skipped when ``registrations`` are given. The turned
-        exemplars are listed in ``LeafAnalysis.mirrored``.
+        training leaf (default True; beyond the paper): leaves of one kind
+        face either way, and the paper's registration keeps orientation. An
+        exemplar nominated by its outline
+        (:func:`~branchnb.leaves.orientation.mirrored_exemplars`) is
+        registered both ways and turned over only when its registered blade
+        fits the training blade clearly better so
+        (:func:`~branchnb.leaves.orientation.turned_over_fits`). Skipped when
+        ``registrations`` are given. The turned exemplars are listed in
+        ``LeafAnalysis.mirrored``.
 
     Returns
     -------
@@ -511,12 +515,11 @@ def analyze(exemplars, training_index: int, layers, params: InductionParams | No
     if not isinstance(mirror, (bool, np.bool_)):
         raise TypeError(f"mirror must be a bool, got {type(mirror).__name__}")
     mirrored = [False] * n
+    # Nominated by the outline alone; registered both ways below and turned over only when that fits.
+    nominated = [False] * n
     if mirror and registrations is None:
         from .orientation import mirrored_exemplars
-        mirrored = mirrored_exemplars(blades, t)
-        # The canvas is centred on each blade: turning it over keeps the blade centred.
-        images = [im[:, ::-1].copy() if m else im for im, m in zip(images, mirrored)]
-        blades = [b[:, ::-1].copy() if m else b for b, m in zip(blades, mirrored)]
+        nominated = mirrored_exemplars(blades, t)
     report = _progress(progress, 0.0, 1.0)
     report(0.0, "training layers")
     layer_set = None
@@ -555,6 +558,7 @@ def analyze(exemplars, training_index: int, layers, params: InductionParams | No
         registrations[t] = IdentityRegistration(blades[t].shape)
     todo = [i for i in range(n) if registrations[i] is None]
     if todo:
+        from .orientation import turned_over_fits
         from .registration import RegistrationParams, _as_leaf, _training_keypoints, register
         report(0.05, f"registering {len(todo)} exemplar(s)")
         prm = RegistrationParams() if registration_params is None else registration_params
@@ -564,10 +568,22 @@ def analyze(exemplars, training_index: int, layers, params: InductionParams | No
             _training_keypoints(tr.rgb, tr.blade, prm.n_keypoints, prm.outline_fraction)
         # The exemplars register independently (deterministic, no shared state): in threads, as
         # TPS-RPM's kernels, OpenCV and NumPy's loops release the GIL.
-        done = thread_map(lambda i: register(images[i], images[t], blades[i], blades[t],
-                                             params=registration_params, rng=rng), todo)
-        for i, r in zip(todo, done):
-            registrations[i] = r
+        # A nominated mirror image is registered turned over too (the canvas is centred on each blade:
+        # turning it over keeps the blade centred).
+        jobs = [(i, False) for i in todo] + [(i, True) for i in todo if nominated[i]]
+
+        def job(ij):
+            i, turn = ij
+            im, b = (images[i][:, ::-1].copy(), blades[i][:, ::-1].copy()) if turn else (images[i], blades[i])
+            return register(im, images[t], b, blades[t], params=registration_params, rng=rng)
+        done = dict(zip(jobs, thread_map(job, jobs)))
+        for i in todo:
+            registrations[i] = done[(i, False)]
+            if nominated[i]:
+                if turned_over_fits(done[(i, False)], done[(i, True)], blades[i], blades[t]):
+                    mirrored[i] = True
+                    images[i], blades[i] = images[i][:, ::-1].copy(), blades[i][:, ::-1].copy()
+                    registrations[i] = done[(i, True)]
         report(0.5, "registered")
     layers_out, residuals, space = induce(
         [im[..., :3] for im in images], blades, t, {k: training.masks[k] for k in training.order},
