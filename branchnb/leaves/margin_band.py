@@ -54,6 +54,17 @@ worst vein IoU at 600 px 0.838 -> 0.913. New leaves (6 per rng, rngs 0-1): cream
 share of the core mean / max 0.0021 / 0.024 -> 0.0001 / 0.0006 at 400 px, 0.0017 / 0.0076 -> 0.0009 /
 0.0025 at 600 px. What is left at 600 px: a donor's vein fork at the green centre's apex (green between
 its branches) pasted over the new leaf's band, and the blurred band edge of the background (open).
+
+leaves86: the pasted band hides the other layers under it (``synthesis_layers._is_band``: the donor's vein
+forks and green-rimmed vein tips across the band are gone) and its small holes are its own
+(:func:`band_holes`: spots tinted by the band were removed as blade and came back as green discs). New
+leaves (12 per case, rngs 0-1), pieces of the centre's colours in the band per leaf: 240 px 2.6 -> 0.17,
+600 px 5.8 -> 2.0 (paste alone), 400 px with a band of 8 % of the image 4.5 -> 0.67 (band IoU 0.947-0.988
+-> 0.978-0.994, cream flecks in the green centre 3.1 -> 0.25 per leaf). (The leaves of
+``tests/test_leaves_variegated.py`` at 240-900 px, 4-6 exemplars, cream and dark bands.) Open: dark
+bands at 256 px (vein IoU 0.49 / 0.55 on exemplars 1 and 3: the midrib snapped 1-2 px beside itself, or its lower half lost) and
+a pale strip where the background's removed band is wider than the pasted one; bands of 10 % of a 256-px
+image (most of the blade) are not grown as a band on the training leaf (margin IoU 0.39).
 """
 
 from __future__ import annotations
