@@ -63,8 +63,9 @@ leaves (12 per case, rngs 0-1), pieces of the centre's colours in the band per l
 -> 0.978-0.994, cream flecks in the green centre 3.1 -> 0.25 per leaf). (The leaves of
 ``tests/test_leaves_variegated.py`` at 240-900 px, 4-6 exemplars, cream and dark bands.) Open: dark
 bands at 256 px (vein IoU 0.49 / 0.55 on exemplars 1 and 3: the midrib snapped 1-2 px beside itself,
-or its lower half lost) and a pale strip where the background's removed band is wider than the pasted one; bands of 10 % of a 256-px
-image (most of the blade) are not grown as a band on the training leaf (margin IoU 0.39).
+or its lower half lost) and a pale strip where the background's removed band is wider than the pasted
+one; bands of 10 % of a 256-px image (most of the blade) are not grown as a band on the training leaf
+(margin IoU 0.39).
 """
 
 from __future__ import annotations
