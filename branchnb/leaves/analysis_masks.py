@@ -104,7 +104,8 @@ def _exemplar_mask(steps: _MaskSteps, e: int, combined_e, delta: float, tr_iou: 
             claimed, crossed = s.band_claimed[e] if s.band_claimed is not None and s.band_claimed[e] is not None \
                 else (None, None)
             m = band_rim(m, s.band_coloured[e], blade & ~taken_e, s.band_reach, claimed=claimed, crossed=crossed)
-        return m, None
+        from .margin_band import band_holes
+        return band_holes(m, blade & ~taken_e), None
     if s.snapped is not None:
         combined_e, delta = colour_alone(combined_e, delta, colour_e, delta_s, blade, s.user, s.blades[t])
     over = s.snapped is not None and _over_induced(combined_e, delta, blade, s.user, s.blades[t])
