@@ -140,6 +140,17 @@ STRAIGHT_GAIN = 1.65
 #: Crown size (px) up to which the straightness tolerances are in the drawing's pixels; a larger
 #: crown's are that share of its size.
 STRAIGHT_REF = 200.0
+#: An outline whose Douglas-Peucker polygon at :data:`STRAIGHT_TOL` keeps less than this share of
+#: its area is re-judged at half the tolerance (down to one drawing pixel): thin facets along a small
+#: crown's side (2-5 px wide at 96 px) collapse onto their midline (trees58; 0.5-0.9 tried: 0.8
+#: found the most low-poly crowns at 96 px, 101 -> 116 of 180, with no control taken).
+SLIVER_KEEP = 0.8
+#: Share of the borders between a crown's flat regions at most :data:`GRADIENT_STEP` apart (largest
+#: channel difference of the regions' mean colours) above which the regions are bands of a smooth
+#: gradient cut by the colour quantisation, no facets (trees58): low-poly crowns of 64-400 px
+#: 0-0.47 (continuously shaded facets), shaded photo crowns (plain tree, poplar, evergreen) 0.71-1.
+GRADIENT_SHARE = 0.6
+GRADIENT_STEP = 2.0 / 64
 #: Supersampling of the redrawn polygons (their edges anti-aliased as the sources').
 _SUPER = 4
 
@@ -296,10 +307,17 @@ def _outline_stats(mask: np.ndarray, pixel: float = 1.0) -> list:
     for c in cnts:
         if len(c) < 8:
             continue
-        q = cv2.approxPolyDP(c, STRAIGHT_TOL * pixel, True)
+        tol = STRAIGHT_TOL * pixel
+        q = cv2.approxPolyDP(c, tol, True)
+        # a facet narrower than twice the tolerance (a sliver along a crown's side) collapses onto
+        # its midline, and its outline then stands half its width off: judged at a finer tolerance
+        area = cv2.contourArea(c)
+        while tol > pixel and abs(cv2.contourArea(q)) < SLIVER_KEEP * area:
+            tol = max(float(pixel), tol / 2)
+            q = cv2.approxPolyDP(c, tol, True)
         d = [abs(cv2.pointPolygonTest(q, (float(x), float(y)), True)) for x, y in c[:, 0]]
-        out.append((len(c), float(np.mean(d)), len(cv2.approxPolyDP(c, 0.5 * STRAIGHT_TOL * pixel, True)),
-                    len(cv2.approxPolyDP(c, 1.5 * STRAIGHT_TOL * pixel, True))))
+        out.append((len(c), float(np.mean(d)), len(cv2.approxPolyDP(c, 0.5 * tol, True)),
+                    len(cv2.approxPolyDP(c, 1.5 * tol, True))))
     return out
 
 
@@ -389,6 +407,10 @@ def facet_palette(image, trunk=None, *, pixel: float = 1.0) -> np.ndarray | None
     _, (iy, ix) = ndi.distance_transform_edt(lab == 0, return_indices=True)
     near = lab[iy, ix]
     whole = np.where(crown, near, 0)
+    ids = np.arange(n + 1)
+    cols = np.stack([ndi.mean(img[..., c], lab, ids) for c in range(3)], axis=1)
+    if not _not_gradient(whole, cols):
+        return None
     good = np.zeros(n + 1, bool)
     for j, sl in enumerate(ndi.find_objects(lab), 1):
         if sl is not None:
@@ -420,14 +442,25 @@ def facet_palette(image, trunk=None, *, pixel: float = 1.0) -> np.ndarray | None
     rim = crown & ~ndi.binary_erosion(crown, structure=np.ones((3, 3), bool))
     if good[near[crown]].mean() < FACET_COVER or good[near[rim]].mean() < FACET_COVER:
         return None
-    ids = np.arange(n + 1)
-    cols = np.stack([ndi.mean(img[..., c], lab, ids) for c in range(3)], axis=1)
     pal = np.unique(np.round(cols[good] * _QUANT) / _QUANT, axis=0).astype(np.float32)
     # at least MIN_SHADES shades apart: a two-tone drawing (a fir lit from one side) resampled
     # splits each fill at the quantisation's steps into near twins, no low-poly palette
     if len(_shades(pal)) < MIN_SHADES:
         return None
     return pal
+
+
+def _not_gradient(whole: np.ndarray, cols: np.ndarray) -> bool:
+    """Whether a crown's flat regions are facets rather than the bands of a smooth gradient
+    (trees58): neighbouring regions mostly more than :data:`GRADIENT_STEP` apart
+    (:data:`GRADIENT_SHARE`; a quantised gradient's bands are one step apart)."""
+    inner = close = 0
+    for dy, dx in ((0, 1), (1, 0)):
+        a, b = whole[:whole.shape[0] - dy, :whole.shape[1] - dx], whole[dy:, dx:]
+        m = (a != b) & (a > 0) & (b > 0)
+        inner += int(m.sum())
+        close += int((np.abs(cols[a[m]] - cols[b[m]]).max(axis=1) <= GRADIENT_STEP).sum())
+    return not inner or close <= GRADIENT_SHARE * inner
 
 
 def _shades(pal: np.ndarray) -> list:
