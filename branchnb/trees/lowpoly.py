@@ -140,10 +140,10 @@ STRAIGHT_GAIN = 1.65
 #: Crown size (px) up to which the straightness tolerances are in the drawing's pixels; a larger
 #: crown's are that share of its size.
 STRAIGHT_REF = 200.0
-#: An outline whose Douglas-Peucker polygon at :data:`STRAIGHT_TOL` keeps less than this share of
-#: its area is re-judged at half the tolerance (down to one drawing pixel): thin facets along a small
-#: crown's side (2-5 px wide at 96 px) collapse onto their midline (trees58; 0.5-0.9 tried: 0.8
-#: found the most low-poly crowns at 96 px, 101 -> 116 of 180, with no control taken).
+#: An outer outline whose Douglas-Peucker polygon at :data:`STRAIGHT_TOL` keeps less than this share
+#: of its area (a thin facet, 2-5 px wide at 96 px, collapsed onto its midline) has its distance
+#: taken from the polygon at half the tolerance (trees58; 0.5/0.8/0.9 found 105/116/113 of 180
+#: procedural low-poly crowns at 96 px, main 101, no control taken).
 SLIVER_KEEP = 0.8
 #: Share of the borders between a crown's flat regions at most :data:`GRADIENT_STEP` apart (largest
 #: channel difference of the regions' mean colours) above which the regions are bands of a smooth
@@ -302,19 +302,19 @@ def _outline_stats(mask: np.ndarray, pixel: float = 1.0) -> list:
     """For every outline (outer and holes, 8 points or more) of a region: its length, its mean
     distance from its Douglas-Peucker polygon at :data:`STRAIGHT_TOL` ``pixel`` and its corner
     counts at half and 1.5 times that tolerance."""
-    cnts, _ = cv2.findContours(mask.astype(np.uint8), cv2.RETR_CCOMP, cv2.CHAIN_APPROX_NONE)
+    cnts, hier = cv2.findContours(mask.astype(np.uint8), cv2.RETR_CCOMP, cv2.CHAIN_APPROX_NONE)
     out = []
-    for c in cnts:
+    for c, h in zip(cnts, hier[0] if hier is not None else [], strict=True):
         if len(c) < 8:
             continue
         tol = STRAIGHT_TOL * pixel
         q = cv2.approxPolyDP(c, tol, True)
-        # a facet narrower than twice the tolerance (a sliver along a crown's side) collapses onto
-        # its midline, and its outline then stands half its width off: judged at a finer tolerance
-        area = cv2.contourArea(c)
-        while tol > pixel and abs(cv2.contourArea(q)) < SLIVER_KEEP * area:
-            tol = max(float(pixel), tol / 2)
-            q = cv2.approxPolyDP(c, tol, True)
+        # a thin facet (a sliver along a small crown's side) collapses onto its midline, and its
+        # outline then stands half its width off: its distance is taken at half the tolerance
+        # (its corner counts are not: a thin crescent's multiply there as a curve's); not a
+        # hole's (a small round dot's polygon at 3 px loses as much)
+        if h[3] < 0 and abs(cv2.contourArea(q)) < SLIVER_KEEP * cv2.contourArea(c):
+            q = cv2.approxPolyDP(c, 0.5 * tol, True)
         d = [abs(cv2.pointPolygonTest(q, (float(x), float(y)), True)) for x, y in c[:, 0]]
         out.append((len(c), float(np.mean(d)), len(cv2.approxPolyDP(c, 0.5 * tol, True)),
                     len(cv2.approxPolyDP(c, 1.5 * tol, True))))
