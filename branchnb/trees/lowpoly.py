@@ -66,6 +66,21 @@ most :data:`LOOSE_RESIDUAL` off and keeps its corners on its own is a facet too.
 of the 69 drawn, synthetic, sticker, sprite and sample trees at 128 and 256 px. Still missed: crowns
 whose regions lie 0.55-0.75 px off on average (half of the 96-128 px ones).
 
+Thin facets and shaded photos (trees58): a small crown's facets along its sides are 2-5 px wide,
+and at the 3 px tolerance their outline's polygon collapses onto its midline and stands half their
+width off; an outer outline whose polygon keeps under :data:`SLIVER_KEEP` of its area has its
+distance taken at half the tolerance (its corner counts are not, so a thin crescent still
+multiplies its corners as a curve). A smoothly shaded crown (a photo, an airbrushed fir) cut by
+the 1/64 quantisation into bands one step apart is no faceted crown (:data:`GRADIENT_SHARE`).
+Figures (``/tmp/trees58/evallib.py``: 180 procedural low-poly trees per size, 3 facet counts,
+5 palettes, anti-aliased or hard, round/cone/tall, through a ``TreeLibrary`` of that size; 71
+controls: sample photos and RPG trees, synthetic, drawn, sticker, sprite, clip-art, cel and
+painterly trees, curved fills): found at 64/96/128/200/256 px 55/67/77/80/81 -> 78/96/97/90/87;
+controls taken 4/8/8/6/2 -> 4/5/5/4/1, none new (the shaded plain tree, poplar and evergreen
+no longer; still taken: flat-dab painterly crowns at 64-128 px, an unoutlined pixel-art palm at
+200-256 px and an unoutlined anti-aliased cel tree at 200 px, and outlined trees, which the
+mixes leave out before asking).
+
 Crowns with curved fills (cel shading, clumps, cartoon leaves), outlined
 or bordered crowns (an ink or sticker ring is no polygon) and pixel art are
 not faceted and keep the mix as made.
@@ -378,6 +393,10 @@ def facet_palette(image, trunk=None, *, pixel: float = 1.0) -> np.ndarray | None
     Beyond trees51 (trees54): a small crown's merged facets are judged together (their outlines'
     mean distance from their polygons at most :data:`POOLED_RESIDUAL`), then each at
     :data:`LOOSE_RESIDUAL`.
+
+    Beyond trees54 (trees58): a thin facet's outline is measured at half the tolerance
+    (:data:`SLIVER_KEEP`), and a crown whose neighbouring regions are mostly one quantisation step
+    apart (a smooth gradient's bands, :data:`GRADIENT_SHARE`) is not faceted.
 
     Examples
     --------
