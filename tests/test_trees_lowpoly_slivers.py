@@ -16,7 +16,7 @@ from scipy.spatial import Delaunay
 
 from branchnb.trees import TreeLibrary
 from branchnb.trees.flat_art import _source_pixel
-from branchnb.trees.lowpoly import _outline_stats, facet_palette
+from branchnb.trees.lowpoly import _outline_stats, _straight_edged, facet_palette
 
 PALETTES = (
     np.array([[0.62, 0.8, 0.35], [0.45, 0.68, 0.27], [0.3, 0.54, 0.2], [0.2, 0.4, 0.16]]),
@@ -77,13 +77,17 @@ def faceted(size, seed, aa=True):
 
 
 def test_thin_facet_outline_is_straight():
-    """A 3 px wide, 60 px long triangle: its outline stood 0.9 px off its polygon at 3 px (the
-    polygon collapsed onto the midline); at the finer tolerance it stands under 0.5 px off."""
-    m = np.zeros((40, 80), np.uint8)
-    cv2.fillPoly(m, [np.int32([[10, 20], [70, 17], [70, 22]])], 1)
+    """A bent facet 3-5 px wide: its outline stood 0.83 px off its polygon at 3 px (collapsed onto
+    the midline; main refused it), now 0.3 px. A thin crescent of the same size stays curved."""
+    m = np.zeros((20, 30), np.uint8)
+    cv2.fillPoly(m, [np.int32([[2, 2], [14, 4], [24, 12], [4, 6]])], 1)
     (_, resid, fine, coarse), = _outline_stats(m)
     assert resid < 0.5, resid
-    assert fine <= 1.65 * coarse + 1, (fine, coarse)
+    assert _straight_edged(m)
+    yy, xx = np.mgrid[:40, :40]
+    crescent = ((xx - 20) ** 2 + (yy - 20) ** 2 <= 100) & ~((xx - 23) ** 2 + (yy - 17) ** 2 <= 100)
+    assert not _straight_edged(crescent.astype(np.uint8))
+    assert not _straight_edged(crescent.astype(np.uint8), residual=0.8)
 
 
 @pytest.mark.parametrize("size", [96, 128])
