@@ -66,6 +66,21 @@ most :data:`LOOSE_RESIDUAL` off and keeps its corners on its own is a facet too.
 of the 69 drawn, synthetic, sticker, sprite and sample trees at 128 and 256 px. Still missed: crowns
 whose regions lie 0.55-0.75 px off on average (half of the 96-128 px ones).
 
+Thin facets and shaded photos (trees58): a small crown's facets along its sides are 2-5 px wide,
+and at the 3 px tolerance their outline's polygon collapses onto its midline and stands half their
+width off; an outer outline whose polygon keeps under :data:`SLIVER_KEEP` of its area has its
+distance taken at half the tolerance (its corner counts are not, so a thin crescent still
+multiplies its corners as a curve). A smoothly shaded crown (a photo, an airbrushed fir) cut by
+the 1/64 quantisation into bands one step apart is no faceted crown (:data:`GRADIENT_SHARE`).
+Figures (``/tmp/trees58/evallib.py``: 180 procedural low-poly trees per size, 3 facet counts,
+5 palettes, anti-aliased or hard, round/cone/tall, through a ``TreeLibrary`` of that size; 71
+controls: sample photos and RPG trees, synthetic, drawn, sticker, sprite, clip-art, cel and
+painterly trees, curved fills): found at 64/96/128/200/256 px 55/67/77/80/81 -> 78/96/97/90/87;
+controls taken 4/8/8/6/2 -> 4/5/5/4/1, none new (the shaded plain tree, poplar and evergreen
+no longer; still taken: flat-dab painterly crowns at 64-128 px, an unoutlined pixel-art palm at
+200-256 px and an unoutlined anti-aliased cel tree at 200 px, and outlined trees, which the
+mixes leave out before asking).
+
 Crowns with curved fills (cel shading, clumps, cartoon leaves), outlined
 or bordered crowns (an ink or sticker ring is no polygon) and pixel art are
 not faceted and keep the mix as made.
@@ -140,6 +155,17 @@ STRAIGHT_GAIN = 1.65
 #: Crown size (px) up to which the straightness tolerances are in the drawing's pixels; a larger
 #: crown's are that share of its size.
 STRAIGHT_REF = 200.0
+#: An outer outline whose Douglas-Peucker polygon at :data:`STRAIGHT_TOL` keeps less than this share
+#: of its area (a thin facet, 2-5 px wide at 96 px, collapsed onto its midline) has its distance
+#: taken from the polygon at half the tolerance (trees58; 0.5/0.8/0.9 found 105/116/113 of 180
+#: procedural low-poly crowns at 96 px, main 101, no control taken).
+SLIVER_KEEP = 0.8
+#: Share of the borders between a crown's flat regions at most :data:`GRADIENT_STEP` apart (largest
+#: channel difference of the regions' mean colours) above which the regions are bands of a smooth
+#: gradient cut by the colour quantisation, no facets (trees58): low-poly crowns of 64-400 px
+#: 0-0.47 (continuously shaded facets), shaded photo crowns (plain tree, poplar, evergreen) 0.71-1.
+GRADIENT_SHARE = 0.6
+GRADIENT_STEP = 2.0 / 64
 #: Supersampling of the redrawn polygons (their edges anti-aliased as the sources').
 _SUPER = 4
 
@@ -291,15 +317,22 @@ def _outline_stats(mask: np.ndarray, pixel: float = 1.0) -> list:
     """For every outline (outer and holes, 8 points or more) of a region: its length, its mean
     distance from its Douglas-Peucker polygon at :data:`STRAIGHT_TOL` ``pixel`` and its corner
     counts at half and 1.5 times that tolerance."""
-    cnts, _ = cv2.findContours(mask.astype(np.uint8), cv2.RETR_CCOMP, cv2.CHAIN_APPROX_NONE)
+    cnts, hier = cv2.findContours(mask.astype(np.uint8), cv2.RETR_CCOMP, cv2.CHAIN_APPROX_NONE)
     out = []
-    for c in cnts:
+    for c, h in zip(cnts, hier[0] if hier is not None else [], strict=True):
         if len(c) < 8:
             continue
-        q = cv2.approxPolyDP(c, STRAIGHT_TOL * pixel, True)
+        tol = STRAIGHT_TOL * pixel
+        q = cv2.approxPolyDP(c, tol, True)
+        # a thin facet (a sliver along a small crown's side) collapses onto its midline, and its
+        # outline then stands half its width off: its distance is taken at half the tolerance
+        # (its corner counts are not: a thin crescent's multiply there as a curve's); not a
+        # hole's (a small round dot's polygon at 3 px loses as much)
+        if h[3] < 0 and abs(cv2.contourArea(q)) < SLIVER_KEEP * cv2.contourArea(c):
+            q = cv2.approxPolyDP(c, 0.5 * tol, True)
         d = [abs(cv2.pointPolygonTest(q, (float(x), float(y)), True)) for x, y in c[:, 0]]
-        out.append((len(c), float(np.mean(d)), len(cv2.approxPolyDP(c, 0.5 * STRAIGHT_TOL * pixel, True)),
-                    len(cv2.approxPolyDP(c, 1.5 * STRAIGHT_TOL * pixel, True))))
+        out.append((len(c), float(np.mean(d)), len(cv2.approxPolyDP(c, 0.5 * tol, True)),
+                    len(cv2.approxPolyDP(c, 1.5 * tol, True))))
     return out
 
 
@@ -361,6 +394,10 @@ def facet_palette(image, trunk=None, *, pixel: float = 1.0) -> np.ndarray | None
     mean distance from their polygons at most :data:`POOLED_RESIDUAL`), then each at
     :data:`LOOSE_RESIDUAL`.
 
+    Beyond trees54 (trees58): a thin facet's outline is measured at half the tolerance
+    (:data:`SLIVER_KEEP`), and a crown whose neighbouring regions are mostly one quantisation step
+    apart (a smooth gradient's bands, :data:`GRADIENT_SHARE`) is not faceted.
+
     Examples
     --------
     >>> import numpy as np, cv2
@@ -389,6 +426,10 @@ def facet_palette(image, trunk=None, *, pixel: float = 1.0) -> np.ndarray | None
     _, (iy, ix) = ndi.distance_transform_edt(lab == 0, return_indices=True)
     near = lab[iy, ix]
     whole = np.where(crown, near, 0)
+    ids = np.arange(n + 1)
+    cols = np.stack([ndi.mean(img[..., c], lab, ids) for c in range(3)], axis=1)
+    if not _not_gradient(whole, cols):
+        return None
     good = np.zeros(n + 1, bool)
     for j, sl in enumerate(ndi.find_objects(lab), 1):
         if sl is not None:
@@ -420,14 +461,25 @@ def facet_palette(image, trunk=None, *, pixel: float = 1.0) -> np.ndarray | None
     rim = crown & ~ndi.binary_erosion(crown, structure=np.ones((3, 3), bool))
     if good[near[crown]].mean() < FACET_COVER or good[near[rim]].mean() < FACET_COVER:
         return None
-    ids = np.arange(n + 1)
-    cols = np.stack([ndi.mean(img[..., c], lab, ids) for c in range(3)], axis=1)
     pal = np.unique(np.round(cols[good] * _QUANT) / _QUANT, axis=0).astype(np.float32)
     # at least MIN_SHADES shades apart: a two-tone drawing (a fir lit from one side) resampled
     # splits each fill at the quantisation's steps into near twins, no low-poly palette
     if len(_shades(pal)) < MIN_SHADES:
         return None
     return pal
+
+
+def _not_gradient(whole: np.ndarray, cols: np.ndarray) -> bool:
+    """Whether a crown's flat regions are facets rather than the bands of a smooth gradient
+    (trees58): neighbouring regions mostly more than :data:`GRADIENT_STEP` apart
+    (:data:`GRADIENT_SHARE`; a quantised gradient's bands are one step apart)."""
+    inner = close = 0
+    for dy, dx in ((0, 1), (1, 0)):
+        a, b = whole[:whole.shape[0] - dy, :whole.shape[1] - dx], whole[dy:, dx:]
+        m = (a != b) & (a > 0) & (b > 0)
+        inner += int(m.sum())
+        close += int((np.abs(cols[a[m]] - cols[b[m]]).max(axis=1) <= GRADIENT_STEP).sum())
+    return not inner or close <= GRADIENT_SHARE * inner
 
 
 def _shades(pal: np.ndarray) -> list:
