@@ -16,6 +16,8 @@ by :func:`~branchnb.branching.extract_structure`):
 - :func:`_fork_weights`: a primary (and its children) fork where the example's do along their length;
 - :func:`_hub_budget`: a hub's forest stops at the example's length per hub, not at its coverage
   (see there);
+- :mod:`.radial_bearing`: the primaries and their children run outward from their hub as the
+  example's lines do (the bearing relative to the nearest hub, learnt like :mod:`.tropism`);
 - :func:`_paste_hubs` copies the example's hub blob (a feathered disc of its radius, scaled like the
   hub) onto every synthesized hub of the image.
 
