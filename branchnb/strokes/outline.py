@@ -48,6 +48,9 @@ __all__ = ["OutlineStyle", "outline_style", "source_depth", "close_cuts", "clear
 
 #: Colour distance between rim and interior above which the source counts as outlined.
 _CONTRAST = 0.2
+#: Least share of a ring's pixels within half the rim-interior distance of the rim colour
+#: for the ring to be outline (the median test this replaces, for colours between the two).
+_RING_SHARE = 0.5
 #: Deepest outline looked for (px).
 _MAX_OUTLINE = 8
 #: Radius of the closing that fills pockets at joints (px).
@@ -164,12 +167,18 @@ def outline_style(premult: np.ndarray, depth: np.ndarray) -> OutlineStyle | None
     if float(np.linalg.norm(rim - inner)) < _CONTRAST:
         return None
     width = float(first)
+    # a ring is the outline's while most of its pixels lie nearer the rim's colour than half way
+    # to the interior's: pixels of a part of another colour than the one most of the interior
+    # has (a flower's green stem and leaves, the interior's median red) are no outline (their
+    # median lay nearer the rim than the red: a 1 px outline measured 4 px at 200 px, its cut
+    # faces and pinholes painted 4 px deep, streaks inside the leaves)
+    half = 0.5 * float(np.linalg.norm(rim - inner))
     for k in range(first + 1, _MAX_OUTLINE + 1):
         ring = solid & (d == k)
         if ring.sum() < 10:
             break
-        c = np.median(rgb[ring], axis=0)
-        if np.linalg.norm(c - rim) > np.linalg.norm(c - inner):
+        near = np.linalg.norm(rgb[ring] - rim, axis=1) <= half
+        if near.mean() < _RING_SHARE:
             break
         width = float(k)
     return OutlineStyle(tuple(float(v) for v in rim), width)

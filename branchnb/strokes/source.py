@@ -59,6 +59,7 @@ from __future__ import annotations
 import functools
 from dataclasses import dataclass, field
 
+import cv2
 import numpy as np
 from scipy import ndimage as ndi
 
@@ -67,6 +68,7 @@ from ..core.graphcut import gradient_magnitude  # the edge strength G of the sea
 from ..core.image import as_rgba
 from ..core.validate import Array, Int, Real, checked
 from .hidden import _own_views
+from .outline import outline_style
 from .parts import add_bases, find_parts
 from .strokes import Stroke
 from .tubes import (
@@ -296,7 +298,7 @@ class SourceIndex:
         return auto_radius(np.interp(s, self.width_s[k], cover))
 
 
-def _widths_apart(strokes, raw, joined, keys, obj, edt, caches):
+def _widths_apart(strokes, raw, joined, keys, obj, edt, caches, ink=None):
     """The raw widths of joined strokes, each measured away from the other's flesh (beyond the paper).
 
     A parent measured across its children's roots is as wide as they are long
@@ -323,7 +325,7 @@ def _widths_apart(strokes, raw, joined, keys, obj, edt, caches):
             if used.get(k, (None,))[0] == [w for _, w in kids + pars]:
                 raw[k] = used[k][1]  # the same widths round it: the same result
                 continue
-            got = _raw_width(st, obj, edt, children=kids + pars, cache=caches[k])
+            got = _raw_width(st, obj, edt, children=kids + pars, cache=caches[k], ink=_own_ink(ink, keys, k))
             if pars:
                 # where its cross-section lies inside the parent's flesh (a limb drawn from
                 # the body's centre line) the widths stay the parent's: a cut end's (see
@@ -334,7 +336,8 @@ def _widths_apart(strokes, raw, joined, keys, obj, edt, caches):
                 for par, hw in pars:
                     ins |= par.project(pts)[1] <= hw - own
                 if ins.any():
-                    keep = _raw_width(st, obj, edt, children=kids, cache=caches[k]) if kids else prev[k]
+                    keep = (_raw_width(st, obj, edt, children=kids, cache=caches[k], ink=_own_ink(ink, keys, k))
+                            if kids else prev[k])
                     wv = np.where(ins, keep[1], got[1])
                     got = (got[0], wv, float(max(1, int(np.ceil(np.median(wv))))))
             raw[k] = got
@@ -342,6 +345,34 @@ def _widths_apart(strokes, raw, joined, keys, obj, edt, caches):
     return raw
 
 
+def _ink(premult: np.ndarray, depth: np.ndarray, strokes: list, keys: list) -> tuple | None:
+    """``(ink, rgb, lines)``: the solid pixels of the object's outline colour (within
+    :data:`_INK` of it), the straight colours and the strokes drawn 5 px wide (the index
+    of their first stroke + 1, 0 off them), or None for an object without an outline
+    (:func:`~branchnb.strokes.outline.outline_style`)."""
+    style = outline_style(premult, depth)
+    if style is None:
+        return None
+    rgb = premult[..., :3] / np.maximum(premult[..., 3:], 1e-6)
+    lines = np.zeros(depth.shape, np.int32)
+    for k, st in enumerate(strokes):
+        if keys.index(keys[k]) == k:
+            cv2.polylines(lines, [np.rint(st.points).astype(np.int32).reshape(-1, 1, 2)], False, k + 1, 5)
+    return (premult[..., 3] > 0.5) & (np.linalg.norm(rgb - np.asarray(style.colour), axis=-1) <= _INK), rgb, lines
+
+
+def _own_ink(ink: tuple | None, keys: list, k: int) -> tuple | None:
+    """``ink`` of :func:`_ink` for stroke ``k``: ``(ink, rgb, other)``, ``other`` the other
+    strokes' pixels (a part they stroke is not one lying over this one)."""
+    if ink is None:
+        return None
+    mask, rgb, lines = ink
+    return mask, rgb, (lines > 0) & (lines != keys.index(keys[k]) + 1)
+
+
+#: Colour distance (RGB in [0, 1]) within which a pixel is the outline's ink (half the least
+#: rim-interior contrast an outline has, see outline._CONTRAST).
+_INK = 0.1
 #: A parent's tube's last px (from its edge inwards) that a joined child's flesh takes (0: none).
 _CHILD_RIM = 1.0
 #: ... along the parent's side: the sine of the angle between the two strokes below this.
@@ -393,14 +424,15 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
 
     # Widths along every stroke (first: they bound how far from a stroke anything is needed).
     caches = [{} for _ in source_strokes]  # per stroke: its rays and runs, measured once
-    raw = [_raw_width(st, obj, edt, cache=caches[k]) if has_alpha else
+    keys = [st.points.tobytes() for st in source_strokes]
+    ink = _ink(premult, edt, source_strokes, keys) if has_alpha else None
+    raw = [_raw_width(st, obj, edt, cache=caches[k], ink=_own_ink(ink, keys, k)) if has_alpha else
            (np.array([0.0, st.length]), np.zeros(2), 0.0) for k, st in enumerate(source_strokes)]
 
-    keys = [st.points.tobytes() for st in source_strokes]
     # Ends joined to another stroke, cut ends.
     joined = _joined_ends(source_strokes, raw, keys)
     if has_alpha:
-        raw = _widths_apart(source_strokes, raw, joined, keys, obj, edt, caches)
+        raw = _widths_apart(source_strokes, raw, joined, keys, obj, edt, caches, ink)
     cuts = [tuple(joined[k][end] >= 0 or _is_cut(st, obj, raw[k][2], end) for end in (0, 1))
             for k, st in enumerate(source_strokes)]
     widths = [_smooth_width(raw[k][1], raw[k][2], _wide_ends(st, cuts[k], edt, raw[k][2])) if has_alpha
