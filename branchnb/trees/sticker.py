@@ -299,6 +299,9 @@ def _fill_to_ink(image: np.ndarray, border: _StickerBorder, ink: np.ndarray, pen
 SPECK_AREA = 1.0
 #: ... whose pixels lie at least this share of the way from the fill next to them to the ink.
 SPECK_INK = 0.3
+#: ... or, 1-2 px across, this share of the way from their 5 x 5 closing to the ink (faint remnants:
+#: 0.25-0.3 of the way at 400 px, where 400 px stickers' mixes kept ~30 of them each; trees57).
+SPECK_FAINT = 0.15
 
 
 def _drop_band_specks(mid: np.ndarray, inner: np.ndarray, di: np.ndarray, ink: np.ndarray,
@@ -324,8 +327,17 @@ def _drop_band_specks(mid: np.ndarray, inner: np.ndarray, di: np.ndarray, ink: n
     rgb = mid[..., :3]
     body = inner & (di > pen_w + 1.0)
     to_ink = np.linalg.norm(rgb - ink, axis=2)
+    # Faint remnants: lines and dots 1-2 px across only part-way to the ink (a warped 3 px pen
+    # resampled at 400 px: 0.25-0.3 of the way from the fill), too light to tell from the fill by
+    # colour alone; found darker than the fill's closing round them (a step between two fills,
+    # a stripe's edge, is no darker than its closing) and on its line to the ink (trees57).
+    ref = np.stack([ndi.grey_closing(rgb[..., c], size=(5, 5)) for c in range(3)], axis=2)
+    dr = ink - ref
+    tf = ((rgb - ref) * dr).sum(axis=2) / np.maximum((dr * dr).sum(axis=2), 1e-6)
+    offf = np.linalg.norm(rgb - (ref + np.clip(tf, 0.0, 1.0)[..., None] * dr), axis=2)
+    faint = body & (di <= lim) & (tf >= SPECK_FAINT) & (offf <= 0.06)
     # the fill: off the ink and off the blends round it
-    fillish = body & ~ndi.binary_dilation(to_ink <= 0.35, structure=np.ones((3, 3), bool))
+    fillish = body & ~ndi.binary_dilation((to_ink <= 0.35) | faint, structure=np.ones((3, 3), bool))
     if not fillish.any():
         return mid
     _, (iy, ix) = ndi.distance_transform_edt(~fillish, return_indices=True)
@@ -336,7 +348,7 @@ def _drop_band_specks(mid: np.ndarray, inner: np.ndarray, di: np.ndarray, ink: n
     # (the line runs on past the ink: the measured ink is a median with its blends, the pen's
     # core is darker still; 400 px mixes kept black teeth of the warped band)
     off = np.linalg.norm(rgb - (near + np.maximum(t, 0.0)[..., None] * d), axis=2)
-    dark = body & (t >= SPECK_INK) & (off <= 0.1)
+    dark = body & (((t >= SPECK_INK) & (off <= 0.1)) | faint)
     lab, n = ndi.label(dark, structure=np.ones((3, 3), bool))
     if not n:
         return mid
