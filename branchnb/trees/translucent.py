@@ -273,6 +273,10 @@ def _trunk_slit(opaque: np.ndarray, mask: np.ndarray, trunk: np.ndarray) -> np.n
     if not miss.any() or not trunk.any():
         return np.zeros_like(opaque)
     crown = opaque & ~trunk
+    # between two parts of the tree in its row (a sliver of the silhouette beside the trunk below
+    # the crown has ground on one side: filled, it was a crown-coloured strip down the trunk)
+    tree = (crown | trunk).astype(np.uint8)
+    miss &= (np.maximum.accumulate(tree, axis=1) > 0) & (np.maximum.accumulate(tree[:, ::-1], axis=1)[:, ::-1] > 0)
     lab, n = ndi.label(miss, structure=np.ones((3, 3), bool))
     idx = np.arange(1, n + 1)
     k = np.ones((3, 3), bool)

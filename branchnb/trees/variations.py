@@ -615,7 +615,12 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
         # (translucent.py, trees57)
         gap = _trunk_slit(image[..., 3] >= 0.5, mask, parts == 2)
         if gap.any():
-            _, (iy, ix) = ndi.distance_transform_edt(parts != 1, return_indices=True)
+            # ... of the crown nearest it, off the trunk's colour (the sources' trunk runs on
+            # inside their crowns, opaque: taken there the slit came out a trunk-coloured bar)
+            bark = np.median(image[..., :3][parts == 2], axis=0)
+            crown = (parts == 1) & (np.linalg.norm(image[..., :3] - bark, axis=2) > 0.2)
+            _, (iy, ix) = ndi.distance_transform_edt(~(crown if crown.any() else parts == 1),
+                                                     return_indices=True)
             image, soft = image.copy(), carried[0].copy()
             image[gap, :3], image[gap, 3] = image[iy[gap], ix[gap], :3], 1.0
             soft[gap], carried[0] = soft[iy[gap], ix[gap]], soft
