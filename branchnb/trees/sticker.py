@@ -302,6 +302,9 @@ SPECK_INK = 0.3
 #: ... or, 1-2 px across, this share of the way from their 5 x 5 closing to the ink (faint remnants:
 #: 0.25-0.3 of the way at 400 px, where 400 px stickers' mixes kept ~30 of them each; trees57).
 SPECK_FAINT = 0.15
+#: ... within this RGB distance of that line (a pen's blend with a blue fill lies 0.10-0.11 off the
+#: line to a grey ink: 0.1 kept ~5 of them per 400 px mix of 200 px stickers; trees57).
+SPECK_OFF = 0.13
 
 
 def _drop_band_specks(mid: np.ndarray, inner: np.ndarray, di: np.ndarray, ink: np.ndarray,
@@ -351,7 +354,9 @@ def _drop_band_specks(mid: np.ndarray, inner: np.ndarray, di: np.ndarray, ink: n
     # (the line runs on past the ink: the measured ink is a median with its blends, the pen's
     # core is darker still; 400 px mixes kept black teeth of the warped band)
     off = np.linalg.norm(rgb - (near + np.maximum(t, 0.0)[..., None] * d), axis=2)
-    dark = body & (((t >= SPECK_INK) & (off <= 0.1)) | faint)
+    # ... or as dark as the pen's core or darker, whatever its hue (a black core off the line from
+    # a red fill through a grey ink by 0.1-0.13: 400 px mixes of 200 px stickers kept ~10 each)
+    dark = body & (((t >= SPECK_INK) & (off <= SPECK_OFF)) | faint | (rgb @ _LUM <= float(ink @ _LUM) + 0.02))
     lab, n = ndi.label(dark, structure=np.ones((3, 3), bool))
     if not n:
         return mid
