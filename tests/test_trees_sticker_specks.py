@@ -42,3 +42,13 @@ def test_warped_outline_band_goes_at_400():
     deep = inner & (di > 6.0) & (di <= 30.0)
     assert float(ink[deep].mean()) <= 0.02
     assert _specks(img, _INKS[1], _BORDERS[1]) <= 20
+
+
+def test_faint_and_black_specks_go_at_400():
+    # 400 px stickers (8 px border, 3 px pen) at 400 px: a dotted line of faint remnants 5-10 px
+    # inside the ring, a quarter of the way to the ink (main: 39 specks on this mix); 200 px stickers
+    # (3 px border, 1 px pen) on a red crown: black cores off the fill-to-grey-ink line (main: 23)
+    lib = _library(400, 0, 8, 3, 0, 0, ["dots", "stripes", "flat"], 400)
+    assert _specks(np.asarray(lib.variation(rng=0).image, np.float32), _INKS[0], _BORDERS[0]) <= 5
+    lib = _library(200, 10, 3, 1, 1, 0, ["stripes", "flat", "gradient"], 400)
+    assert _specks(np.asarray(lib.variation(rng=2).image, np.float32), _INKS[0], _BORDERS[1]) <= 8

@@ -299,6 +299,12 @@ def _fill_to_ink(image: np.ndarray, border: _StickerBorder, ink: np.ndarray, pen
 SPECK_AREA = 1.0
 #: ... whose pixels lie at least this share of the way from the fill next to them to the ink.
 SPECK_INK = 0.3
+#: ... or, 1-2 px across, this share of the way from their 5 x 5 closing to the ink (faint remnants:
+#: 0.25-0.3 of the way at 400 px, where 400 px stickers' mixes kept ~30 of them each; trees57).
+SPECK_FAINT = 0.15
+#: ... within this RGB distance of that line (a pen's blend with a blue fill lies 0.10-0.11 off the
+#: line to a grey ink: 0.1 kept ~5 of them per 400 px mix of 200 px stickers; trees57).
+SPECK_OFF = 0.13
 
 
 def _drop_band_specks(mid: np.ndarray, inner: np.ndarray, di: np.ndarray, ink: np.ndarray,
@@ -319,13 +325,25 @@ def _drop_band_specks(mid: np.ndarray, inner: np.ndarray, di: np.ndarray, ink: n
     larger than ``SPECK_AREA lim**2`` or reaching deeper than the band is a detail of the drawing
     and stays, except a piece of at most two pens squared (``2 (pen_w + 1)**2``) within twice the
     band: at the sources' notches (trunk into crown) the warp maps their outline deeper under the
-    mix's smoother rim.
+    mix's smoother rim. Faint remnants (a warped pen resampled into a dotted line 0.25-0.3 of the
+    way from the fill to the ink, 5-10 px inside the ring) are found against the fill's 5 x 5 grey
+    closing instead (:data:`SPECK_FAINT`; trees57: 400 px mixes of 400 px stickers, 8 px border,
+    3 px pen, kept 32 of them each, then 0.1).
     """
     rgb = mid[..., :3]
     body = inner & (di > pen_w + 1.0)
     to_ink = np.linalg.norm(rgb - ink, axis=2)
+    # Faint remnants: lines and dots 1-2 px across only part-way to the ink (a warped 3 px pen
+    # resampled at 400 px: 0.25-0.3 of the way from the fill), too light to tell from the fill by
+    # colour alone; found darker than the fill's closing round them (a step between two fills,
+    # a stripe's edge, is no darker than its closing) and on its line to the ink (trees57).
+    ref = np.stack([ndi.grey_closing(rgb[..., c], size=(5, 5)) for c in range(3)], axis=2)
+    dr = ink - ref
+    tf = ((rgb - ref) * dr).sum(axis=2) / np.maximum((dr * dr).sum(axis=2), 1e-6)
+    offf = np.linalg.norm(rgb - (ref + np.clip(tf, 0.0, 1.0)[..., None] * dr), axis=2)
+    faint = body & (di <= lim) & (tf >= SPECK_FAINT) & (offf <= 0.06)
     # the fill: off the ink and off the blends round it
-    fillish = body & ~ndi.binary_dilation(to_ink <= 0.35, structure=np.ones((3, 3), bool))
+    fillish = body & ~ndi.binary_dilation((to_ink <= 0.35) | faint, structure=np.ones((3, 3), bool))
     if not fillish.any():
         return mid
     _, (iy, ix) = ndi.distance_transform_edt(~fillish, return_indices=True)
@@ -336,7 +354,9 @@ def _drop_band_specks(mid: np.ndarray, inner: np.ndarray, di: np.ndarray, ink: n
     # (the line runs on past the ink: the measured ink is a median with its blends, the pen's
     # core is darker still; 400 px mixes kept black teeth of the warped band)
     off = np.linalg.norm(rgb - (near + np.maximum(t, 0.0)[..., None] * d), axis=2)
-    dark = body & (t >= SPECK_INK) & (off <= 0.1)
+    # ... or as dark as the pen's core or darker, whatever its hue (a black core off the line from
+    # a red fill through a grey ink by 0.1-0.13: 400 px mixes of 200 px stickers kept ~10 each)
+    dark = body & (((t >= SPECK_INK) & (off <= SPECK_OFF)) | faint | (rgb @ _LUM <= float(ink @ _LUM) + 0.02))
     lab, n = ndi.label(dark, structure=np.ones((3, 3), bool))
     if not n:
         return mid

@@ -77,7 +77,7 @@ from .morph import check_weights, combine_shapes, dirichlet_weights, fill_contou
 from .mvc import transfer_colour
 from .processing import GROUND_METHODS, TRUNK_METHODS, Exemplar, exemplar_trunk, process_exemplar
 from .sticker import _sticker_mix
-from .translucent import _feather_width, _halo_envelope
+from .translucent import _feather_width, _halo_envelope, _trunk_slit
 
 __all__ = [
     "RPG_TREES",
@@ -610,6 +610,21 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
         ref_ex = _reference_exemplar(reference, library)
         image = histogram_transfer(image, ref_img, labels=parts,
                                    reference_labels=None if ref_ex is None else exemplar_parts(ref_ex))
+    if not bare and clear:
+        # the slit between the trunk's top and the crown is crown: its colour and carried alpha
+        # (translucent.py, trees57)
+        gap = _trunk_slit(image[..., 3] >= 0.5, mask, parts == 2)
+        if gap.any():
+            # ... of the crown nearest it, off the trunk's colour (the sources' trunk runs on
+            # inside their crowns, opaque: taken there the slit came out a trunk-coloured bar)
+            bark = np.median(image[..., :3][parts == 2], axis=0)
+            crown = (parts == 1) & (np.linalg.norm(image[..., :3] - bark, axis=2) > 0.2)
+            _, (iy, ix) = ndi.distance_transform_edt(~(crown if crown.any() else parts == 1),
+                                                     return_indices=True)
+            image, soft = image.copy(), carried[0].copy()
+            image[gap, :3], image[gap, 3] = image[iy[gap], ix[gap], :3], 1.0
+            soft[gap], carried[0] = soft[iy[gap], ix[gap]], soft
+            parts[gap], sources[gap] = 1, sources[iy[gap], ix[gap]]
     sources = np.where(image[..., 3] >= 0.5, sources, -1)
     _remember_parts(image, parts)
     if not bare and clear:

@@ -1,0 +1,55 @@
+"""Translucent mixes: no slit of bare ground between the trunk's top and the crown (issue 24, trees57)."""
+
+import numpy as np
+import pytest
+from scipy import ndimage as ndi
+from test_trees_translucent import translucent_tree
+
+from branchnb.trees import TreeLibrary
+from branchnb.trees.translucent import _trunk_slit
+
+
+def _slit(v):
+    """Pixels above the trunk's top (up to 0.1 h, within 12 px of it across) inside the mixed
+    silhouette painted below half the crown's median alpha there: a slit running up into the crown."""
+    a = np.asarray(v.image, np.float32)[..., 3]
+    parts, mask = np.asarray(v.parts), np.asarray(v.mask, bool)
+    ys, xs = np.nonzero(parts == 2)
+    ty, tx = ys.min(), int(np.median(xs[ys == ys.min()]))
+    reg = np.zeros_like(mask)
+    reg[max(0, ty - int(0.1 * a.shape[0])):ty, max(0, tx - 12):tx + 13] = True
+    reg &= ndi.binary_erosion(mask, iterations=2)
+    med = float(np.median(a[reg & (parts == 1)]))
+    return int((reg & (a < 0.5 * med)).sum())
+
+
+@pytest.mark.parametrize("kind", ["watercolour", "airbrush"])
+def test_no_slit_at_the_trunk_top(kind):
+    # crowns whose trunk runs up inside them: main left a slit of bare ground running up from the
+    # trunk's top into the crown (174 and 50 px by this measure in these two mixes)
+    lib = TreeLibrary(size=256)
+    for s in range(4):
+        lib.add(translucent_tree(kind, s, 256)[0], f"t{s}")
+    v = lib.variation(rng=1)
+    assert _slit(v) <= 5
+    # ... filled as crown: the crown's colour, not the trunk's
+    a = np.asarray(v.image, np.float32)
+    crown = (np.asarray(v.parts) == 1) & (a[..., 3] > 0.2)
+    assert float(np.median(a[..., 1][crown])) > float(np.median(a[..., 0][crown]))
+
+
+def test_slit_needs_trunk_and_crown():
+    # a hole of the crown away from the trunk stays; a bay between trunk and crown is taken
+    op = np.zeros((40, 40), bool)
+    op[5:25, 5:35] = True
+    op[25:39, 18:22] = True
+    trunk = np.zeros_like(op)
+    trunk[25:39, 18:22] = True
+    mask = op.copy()
+    mask[25:30, 10:30] = True
+    op[10:14, 8:12] = False      # a hole of the crown
+    op[20:25, 22:26] = False     # a slit beside the trunk's top
+    gap = _trunk_slit(op, mask, trunk)
+    assert gap[22, 23] and not gap[11, 9]
+    # the sliver beside the trunk below the crown has ground on one side: not taken
+    assert not gap[28, 12]
