@@ -294,8 +294,11 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
 
         flat = flattened_silhouette(as_rgb(image)[..., :3] if np.ndim(image) == 3 else gray)
         if flat is not None:
-            # (no drawn regions: a shaded sky's many colours would read as region borders cutting the lines)
-            return _extract_binary(flat, dataclasses.replace(p, polarity="dark"), mask, return_maps, root_point)
+            # (no drawn regions: a shaded sky's many colours would read as region borders cutting the lines;
+            # no flat regions: one solid ink is lines, and a small tree's short trunk, 3 x its twigs' width and
+            # over 1 % of a 128 px image, was taken for a sea and cut off, rooting the crown inland, issue 23)
+            return _extract_binary(flat, dataclasses.replace(p, polarity="dark"), mask, return_maps, root_point,
+                                   flat_regions=False)
     if hue is not None:
         gray = hue
     lines = gray
