@@ -56,6 +56,20 @@ def test_tree_from_the_ground_grows_no_branch_down(seed, rng):
     assert _down_share(out) <= _down_share(ex) + 0.06
 
 
+@pytest.mark.parametrize("seed", [1, 3, 4])
+def test_small_tree_keeps_its_trunk_and_fits_a_tropism(seed):
+    # main: the 128 px tree's short trunk (3 x its twigs' width, over 1 % of the image) was taken for a
+    # sea and cut off; the crown rooted inland (y 101-108), so no tropism fitted and its output drooped
+    img = _upright_tree(128, seed)
+    ex = extract_structure(img)
+    roots = [b for b in ex.branches if b.parent is None]
+    assert len(roots) == 1
+    assert roots[0].points[0][1] >= 124
+    model = fit_model(ex)
+    assert model.tropism is not None
+    assert int(model.roots.sides[0]) == 1                # the bottom side
+
+
 def test_tropism_factor_prefers_the_example_bearings():
     w = np.full(16, 0.1)
     w[4] = w[3] = 7.9            # up the image (bearing -90 deg, on the edge of bins 3 and 4)
