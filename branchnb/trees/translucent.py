@@ -252,12 +252,17 @@ def _halo_envelope(exemplars, most: float) -> tuple[float, np.ndarray] | None:
 #: the slits measured on 256-400 px watercolour, airbrushed and glass mixes were 0.1-1.5 % of it.
 SLIT_MAX = 0.03
 
+#: Least share of crown round a trunk-top gap of an opaque mix for it to be filled (trees59): the
+#: notches measured on 256 px opaque watercolour and RPG mixes were ringed by SHARE_TBD crown, holes
+#: inside RPG trunks by SHARE_TBD2.
+SLIT_CROWN = 0.5
 
-def _trunk_slit(opaque: np.ndarray, mask: np.ndarray, trunk: np.ndarray) -> np.ndarray:
+
+def _trunk_slit(opaque: np.ndarray, mask: np.ndarray, trunk: np.ndarray, crown_share: float = 0.0) -> np.ndarray:
     """The gaps the colour transfer left between a mix's trunk top and its crown: pixels inside the
     mixed silhouette ``mask`` (more than 1 px in) that no source painted (``opaque`` false), in
     pieces touching both the ``trunk`` and the crown (``opaque`` and not trunk), each at most
-    :data:`SLIT_MAX` of the silhouette.
+    :data:`SLIT_MAX` of the silhouette and with at least ``crown_share`` of the pixels round it crown.
 
     Notes
     -----
@@ -284,4 +289,10 @@ def _trunk_slit(opaque: np.ndarray, mask: np.ndarray, trunk: np.ndarray) -> np.n
     at_crown = np.asarray(ndi.maximum(ndi.binary_dilation(crown, structure=k), lab, idx)) > 0
     area = np.asarray(ndi.sum(miss, lab, idx))
     keep = at_trunk & at_crown & (area <= SLIT_MAX * max(int(mask.sum()), 1))
+    if crown_share > 0 and keep.any():
+        # opaque mixes (trees59): a hole ringed mostly by trunk is the trunk's own (a knot hole)
+        ring = ndi.grey_dilation(lab, footprint=k) * ~(lab > 0)
+        near = np.asarray(ndi.sum(crown[ring > 0], ring[ring > 0], idx)) / np.maximum(
+            np.asarray(ndi.sum(np.ones(int((ring > 0).sum())), ring[ring > 0], idx)), 1)
+        keep &= near >= crown_share
     return np.isin(lab, idx[keep])
