@@ -53,3 +53,33 @@ def test_slit_needs_trunk_and_crown():
     assert gap[22, 23] and not gap[11, 9]
     # the sliver beside the trunk below the crown has ground on one side: not taken
     assert not gap[28, 12]
+
+
+def test_opaque_mix_keeps_no_notch_at_the_trunk_top():
+    # an opaque copy of the watercolour sources: main left a 292 px notch of bare ground beside the
+    # trunk's top inside the mixed silhouette (trees59)
+    lib = TreeLibrary(size=256)
+    for s in range(4):
+        img = translucent_tree("watercolour", s, 256)[0].copy()
+        img[..., 3] = (img[..., 3] > 0.1).astype(np.float32)
+        lib.add(img, f"t{s}")
+    v = lib.variation(rng=1)
+    a = np.asarray(v.image, np.float32)
+    gap = _trunk_slit(a[..., 3] >= 0.5, np.asarray(v.mask, bool), np.asarray(v.parts) == 2)
+    assert int(gap.sum()) <= 5
+    assert set(np.unique(a[..., 3])) <= {0.0, 1.0}     # still an opaque cut-out
+
+
+def test_opaque_slit_needs_crown_round_it():
+    # a hole of the trunk just under the crown is the trunk's own: kept where crown is asked round the gap
+    op = np.zeros((40, 40), bool)
+    op[5:25, 5:35] = True
+    op[25:39, 16:24] = True
+    trunk = np.zeros_like(op)
+    trunk[25:39, 16:24] = True
+    mask = op.copy()
+    op[25:28, 19:21] = False     # a knot hole at the trunk's top
+    op[18:25, 22:25] = False     # a slit beside the trunk's top, up into the crown
+    assert _trunk_slit(op, mask, trunk)[26, 19]
+    gap = _trunk_slit(op, mask, trunk, 0.5)
+    assert gap[20, 23] and not gap[26, 19]

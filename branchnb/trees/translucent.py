@@ -252,12 +252,17 @@ def _halo_envelope(exemplars, most: float) -> tuple[float, np.ndarray] | None:
 #: the slits measured on 256-400 px watercolour, airbrushed and glass mixes were 0.1-1.5 % of it.
 SLIT_MAX = 0.03
 
+#: Least share of crown round a trunk-top gap of an opaque mix for it to be filled (trees59): the
+#: notches of 128-256 px opaque watercolour mixes were ringed by 0.57-0.67 crown, the RPG trunks'
+#: own knot holes by 0.02-0.05 (a gap under a palm frond by 0.26).
+SLIT_CROWN = 0.5
 
-def _trunk_slit(opaque: np.ndarray, mask: np.ndarray, trunk: np.ndarray) -> np.ndarray:
+
+def _trunk_slit(opaque: np.ndarray, mask: np.ndarray, trunk: np.ndarray, crown_share: float = 0.0) -> np.ndarray:
     """The gaps the colour transfer left between a mix's trunk top and its crown: pixels inside the
     mixed silhouette ``mask`` (more than 1 px in) that no source painted (``opaque`` false), in
     pieces touching both the ``trunk`` and the crown (``opaque`` and not trunk), each at most
-    :data:`SLIT_MAX` of the silhouette.
+    :data:`SLIT_MAX` of the silhouette and with at least ``crown_share`` of the pixels round it crown.
 
     Notes
     -----
@@ -266,7 +271,8 @@ def _trunk_slit(opaque: np.ndarray, mask: np.ndarray, trunk: np.ndarray) -> np.n
     next to its trunk, so the mix keeps a slit of bare ground running up from where the trunk
     enters the crown (10-50 rows at 256 px). Opaque mixes keep the same notch in their silhouette;
     a translucent crown shows it as a dark gap in the wash. Holes of the sources inside the crown
-    (not touching the trunk) stay.
+    (not touching the trunk) stay. Opaque mixes (trees59) ask for ``crown_share`` =
+    :data:`SLIT_CROWN` of crown round a gap, so that the trunk's own holes stay.
     """
     inside = ndi.distance_transform_edt(mask) > 1.5
     miss = inside & ~opaque
@@ -284,4 +290,10 @@ def _trunk_slit(opaque: np.ndarray, mask: np.ndarray, trunk: np.ndarray) -> np.n
     at_crown = np.asarray(ndi.maximum(ndi.binary_dilation(crown, structure=k), lab, idx)) > 0
     area = np.asarray(ndi.sum(miss, lab, idx))
     keep = at_trunk & at_crown & (area <= SLIT_MAX * max(int(mask.sum()), 1))
+    if crown_share > 0 and keep.any():
+        # opaque mixes (trees59): a hole ringed mostly by trunk is the trunk's own (a knot hole)
+        ring = ndi.grey_dilation(lab, footprint=k) * ~(lab > 0)
+        near = np.asarray(ndi.sum(crown[ring > 0], ring[ring > 0], idx)) / np.maximum(
+            np.asarray(ndi.sum(np.ones(int((ring > 0).sum())), ring[ring > 0], idx)), 1)
+        keep &= near >= crown_share
     return np.isin(lab, idx[keep])

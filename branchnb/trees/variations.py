@@ -77,7 +77,7 @@ from .morph import check_weights, combine_shapes, dirichlet_weights, fill_contou
 from .mvc import transfer_colour
 from .processing import GROUND_METHODS, TRUNK_METHODS, Exemplar, exemplar_trunk, process_exemplar
 from .sticker import _sticker_mix
-from .translucent import _feather_width, _halo_envelope, _trunk_slit
+from .translucent import SLIT_CROWN, _feather_width, _halo_envelope, _trunk_slit
 
 __all__ = [
     "RPG_TREES",
@@ -587,6 +587,7 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     if not bare and not pixel and not inked and len(used) > 1:
         # hard-edged (aliased, off any art grid) trunks: the warp's bends are steps (trunk_lines.py)
         image, sources, trunk = _straight_trunk_mix(image, [exemplars[i] for i in used], sources, trunk)
+    unlined = image     # (an outline or sticker ring drawn below runs round a trunk-top notch)
     if bare:        # no outline, sticker or palette step: its soft alpha and colours stay
         pass
     elif pixel:       # pixel art stays on its grid, in its palette, with a 1-art-pixel outline
@@ -601,6 +602,7 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     elif p.outline and len(used) > 1:      # one exemplar: its own shape, its outline intact
         image = _ink_outline(image, [exemplars[i] for i in used], cw[used],
                              np.where(image[..., 3] >= 0.5, sources, -1) if mode == "choose" else None)
+    lined = inked or image is not unlined
     sources = used[np.maximum(sources, 0)] * (sources >= 0) - (sources < 0)
     opaque = image[..., 3] >= 0.5
     parts = np.where(opaque, np.where(trunk >= 0.5, 2, 1), 0).astype(np.uint8)
@@ -610,20 +612,26 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
         ref_ex = _reference_exemplar(reference, library)
         image = histogram_transfer(image, ref_img, labels=parts,
                                    reference_labels=None if ref_ex is None else exemplar_parts(ref_ex))
-    if not bare and clear:
+    if not bare and (clear or not lined):
         # the slit between the trunk's top and the crown is crown: its colour and carried alpha
-        # (translucent.py, trees57)
-        gap = _trunk_slit(image[..., 3] >= 0.5, mask, parts == 2)
+        # (translucent.py, trees57); opaque mixes keep it as a notch in their silhouette (trees59).
+        # Not on outlined or pixel-art mixes: their ink already runs round the notch.
+        gap = _trunk_slit(image[..., 3] >= 0.5, mask, parts == 2, 0.0 if clear else SLIT_CROWN)
         if gap.any():
             # ... of the crown nearest it, off the trunk's colour (the sources' trunk runs on
             # inside their crowns, opaque: taken there the slit came out a trunk-coloured bar)
             bark = np.median(image[..., :3][parts == 2], axis=0)
             crown = (parts == 1) & (np.linalg.norm(image[..., :3] - bark, axis=2) > 0.2)
+            inner = ndi.binary_erosion(crown, iterations=2)
+            if not clear and inner.any():   # opaque: off the crown's rim, whose blended colours no
+                crown = inner               # source has (test_trees_ground foreign colour 0.005 -> 0.013)
             _, (iy, ix) = ndi.distance_transform_edt(~(crown if crown.any() else parts == 1),
                                                      return_indices=True)
-            image, soft = image.copy(), carried[0].copy()
+            image = image.copy()
             image[gap, :3], image[gap, 3] = image[iy[gap], ix[gap], :3], 1.0
-            soft[gap], carried[0] = soft[iy[gap], ix[gap]], soft
+            if clear:
+                soft = carried[0].copy()
+                soft[gap], carried[0] = soft[iy[gap], ix[gap]], soft
             parts[gap], sources[gap] = 1, sources[iy[gap], ix[gap]]
     sources = np.where(image[..., 3] >= 0.5, sources, -1)
     _remember_parts(image, parts)
