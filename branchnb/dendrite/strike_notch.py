@@ -47,6 +47,10 @@ __all__: list[str] = []
 #: a notch that :func:`split_at_notches` cuts from between round parts: two discs meeting at
 #: 1.4 radii make ~105-140, a bumpy blob's dents and a capsule's sides ~165-180.
 NOTCH_ROUND_ANGLE = 145.0
+#: Share of the piece's inscribed radius at which :func:`split_at_notches` reads round parts'
+#: notches again when none qualified (dendrite46): a 2 x 2 cluster 1.15 radii apart is ~1.4
+#: discs' radii deep in its middle, its notches read ~140-155 degrees there.
+NOTCH_CLUSTER_SCALE = 0.7
 #: Least depth of a notch (below the convex hull) over the piece's inscribed radius.
 NOTCH_DEPTH = 0.1
 #: Largest angle (degrees) between a cut between round parts and either notch's halving line.
@@ -255,22 +259,29 @@ def split_at_notches(piece: np.ndarray, least: float) -> np.ndarray | None:
     # disc's slices a disc off a 2 x 2 cluster's diagonal and leaves the other two joined);
     # all made at once (the cluster's two cuts cross in its middle)
     aim = np.cos(np.radians(NOTCH_ROUND_AIM))
-    segments = []
-    sharp = [nt for nt in notches if nt[1] <= NOTCH_ROUND_ANGLE]
-    for u in range(len(sharp)):
-        for v in range(u + 1, len(sharp)):
-            (i, _, di), (j, _, dj) = sharp[u], sharp[v]
-            e = (c[j] - c[i]) / max(float(np.hypot(*(c[j] - c[i]))), 1e-9)
-            if min(float(di @ e), float(-(dj @ e))) < aim:
-                continue
-            a1, s1, a2, s2 = sides(i, j)
-            if min(a1, a2) < least or min(s1, s2) < NOTCH_ROUND_SOLID or not _inside(piece, c[i], c[j]):
-                continue
-            segments.append((c[i], c[j]))
-    if segments:
-        out = _cut(piece, segments, least)
-        if out is not None:
-            return out
+    cand = notches
+    for again in (False, True):
+        if again:
+            # a cluster whose middle fills in is deeper there than its parts are: its
+            # notches read again at a part's scale, every one under a hull edge (dendrite46)
+            r2 = NOTCH_CLUSTER_SCALE * rin
+            cand = _notches(c, NOTCH_DEPTH * r2, max(3, int(round(0.35 * r2))), every=True)
+        segments = []
+        sharp = [nt for nt in cand if nt[1] <= NOTCH_ROUND_ANGLE]
+        for u in range(len(sharp)):
+            for v in range(u + 1, len(sharp)):
+                (i, _, di), (j, _, dj) = sharp[u], sharp[v]
+                e = (c[j] - c[i]) / max(float(np.hypot(*(c[j] - c[i]))), 1e-9)
+                if min(float(di @ e), float(-(dj @ e))) < aim:
+                    continue
+                a1, s1, a2, s2 = sides(i, j)
+                if min(a1, a2) < least or min(s1, s2) < NOTCH_ROUND_SOLID or not _inside(piece, c[i], c[j]):
+                    continue
+                segments.append((c[i], c[j]))
+        if segments:
+            out = _cut(piece, segments, least)
+            if out is not None:
+                return out
     # a row of strokes: the shortest cut from a sharp notch that leaves two long sides
     (_, _), (rw, rh), _ = cv2.minAreaRect(c.astype(np.float32))
     long, high = max(rw, rh), min(rw, rh)
