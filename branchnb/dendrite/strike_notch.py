@@ -278,6 +278,21 @@ def split_at_notches(piece: np.ndarray, least: float) -> np.ndarray | None:
                 if min(a1, a2) < least or min(s1, s2) < NOTCH_ROUND_SOLID or not _inside(piece, c[i], c[j]):
                     continue
                 segments.append((c[i], c[j]))
+        # a sharp notch whose partner across a filled middle is too blunt to count (a 2 x 2
+        # cluster's fourth notch on a bumpy disc): cut straight in along its halving line to
+        # the far outline where that crosses a cut already made and leaves two round sides
+        # (dendrite46; an apple's dent crosses no cut)
+        used = {tuple(int(v) for v in p) for seg in segments for p in seg}
+        for i, _, di in (sharp if segments else []):
+            if tuple(int(v) for v in c[i]) in used:
+                continue
+            q = _ray_end(piece, c[i], di)
+            if q is None or not any(_crosses(c[i], q, p0, p1) for p0, p1 in segments):
+                continue
+            j = int(np.argmin(np.hypot(*(c - q).T)))
+            a1, s1, a2, s2 = sides(i, j)
+            if min(a1, a2) >= least and min(s1, s2) >= NOTCH_ROUND_SOLID:
+                segments.append((c[i], c[j]))
         if segments:
             out = _cut(piece, segments, least)
             if out is not None:
@@ -336,6 +351,32 @@ def split_at_notches(piece: np.ndarray, least: float) -> np.ndarray | None:
         if out is not None:
             return out
     return None
+
+
+def _ray_end(piece: np.ndarray, p: np.ndarray, d: np.ndarray) -> np.ndarray | None:
+    """Last pixel of ``piece`` on the ray from ``p`` along ``d`` before it leaves the piece
+    (None when it leaves at once)."""
+    h, w = piece.shape
+    t = np.arange(1.0, float(np.hypot(h, w)))
+    xy = np.rint(p[None] + t[:, None] * d[None]).astype(int)
+    ok = (xy[:, 0] >= 0) & (xy[:, 0] < w) & (xy[:, 1] >= 0) & (xy[:, 1] < h)
+    ok[ok] = piece[xy[ok, 1], xy[ok, 0]]
+    # (the first pixels next to the notch may lie off the piece: start at the first inside)
+    first = np.flatnonzero(ok)
+    if first.size == 0:
+        return None
+    out = np.flatnonzero(~ok[first[0]:])
+    last = first[0] + (out[0] - 1 if out.size else ok.size - 1 - first[0])
+    return xy[last].astype(float) if last > first[0] + 2 else None
+
+
+def _crosses(p: np.ndarray, q: np.ndarray, a: np.ndarray, b: np.ndarray) -> bool:
+    """Whether the segments ``pq`` and ``ab`` cross."""
+    def side(u, v, w):
+        return float((v[0] - u[0]) * (w[1] - u[1]) - (v[1] - u[1]) * (w[0] - u[0]))
+
+    p, q, a, b = (np.asarray(x, float) for x in (p, q, a, b))
+    return side(p, q, a) * side(p, q, b) < 0 and side(a, b, p) * side(a, b, q) < 0
 
 
 def _axis(c: np.ndarray) -> tuple[tuple[float, float], tuple[float, float]]:
