@@ -31,9 +31,24 @@ Measured (``/tmp`` scripts of strokes41; parts == letters with both shares > 0.9
 none worse: "MOON" (6 parts, 0.53-0.55 -> 4 parts, 0.99) and "ZOOM" at 512 / 768 px. Rings of
 4-8 bumpy discs, centres 1.15-1.9 radii apart, 256 / 768 px: 6 discs 1.25 apart at 256 px 5
 -> 6 parts (agreement 0.50 -> 0.69), 1.15 apart at 768 px 1 -> 6 (0.24 -> 0.59), none worse.
-Limits: beads under ``OUTLINE_MIN_PART`` of the picture (8 in a ring at 256 or 768 px) and a
-2 x 2 cluster whose middle fills in with a blunt notch stay merged in pairs; letters whose
-join shows no notch (a "Z" and an "O" at 256 px) stay one part.
+Letters whose join shows no notch (a "Z" and an "O" at 256 px) stay one part.
+
+dendrite46 (``/tmp/dendrite46/measure.py``: rings of 6 / 8 / 10 bumpy beads 1.2 / 1.5 / 1.8
+radii apart spanning 0.9 / 0.6 / 0.4 of the picture, 2 x 2 and 3 x 3 clusters 1.15-1.8 radii
+apart, at 256 / 512 / 768 px; exact == as many parts as beads and agreement > 0.6). Beads
+under ``OUTLINE_MIN_PART`` of the picture are cut at a floor of
+:data:`~branchnb.dendrite.strike_outline.OUTLINE_PART_SHARE` of their piece: rings 35 -> 61
+of 81 exact (10 beads 1.8 radii apart at 512 px 2 parts, 0.15 -> 10, 0.95). A cluster whose
+middle fills in (its inscribed radius ~1.4 discs') has its notches read again at
+:data:`NOTCH_CLUSTER_SCALE` of it, and a sharp notch whose partner stays blunt is cut along
+its halving line when that crosses a cut already made: 2 x 2 clusters 13 -> 22 of 24 exact,
+all 24 in 4 parts (1.15 radii apart at 512 px 1 part, 0.36 -> 4, 0.63; the ground truth gives
+each overlap to one disc, the cut halves it). The 119 word cases above unchanged. Limits:
+beads overlapping to 1.2 radii apart in a ring (4 -> 7 of 27 exact; 10 such beads at 256 / 768
+px, 3 of 6, stay one part) and 3 x 3 clusters 1.3 radii apart or closer (the middle
+disc never reaches the outline: 1-3 parts at 0.16-0.24 -> 2-10 parts at 0.20-0.36, some
+cuts inside discs) stay wrong;
+3 x 3 clusters 1.5 radii apart or more come apart as before.
 """
 
 from __future__ import annotations

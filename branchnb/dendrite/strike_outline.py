@@ -98,7 +98,10 @@ def outline_parts(sil: np.ndarray, min_part: float = OUTLINE_MIN_PART,
     (:func:`~branchnb.dendrite.strike_notch.split_at_notches`: a 2 x 2 cluster of discs,
     the touching letters of a bold word); a ring of round parts round a hole is first cut
     from its outline's notches to the hole's corners
-    (:func:`~branchnb.dendrite.strike_notch.split_round_hole`).
+    (:func:`~branchnb.dendrite.strike_notch.split_round_hole`). A part cut out of one
+    connected piece by shape may be as small as ``OUTLINE_PART_SHARE`` of that piece when
+    that is under ``min_part`` of the picture (the beads of a ring, dendrite46); separate
+    pieces under ``min_part`` still fall out.
 
     Parameters
     ----------
