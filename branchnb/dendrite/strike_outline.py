@@ -77,6 +77,9 @@ OUTLINE_MIN_PART = 0.02
 #: and a 3 x 3 cluster's discs (11 %) came apart in pairs or not at all under the picture's
 #: floor; the 119 word cases keep their parts with 0.05.
 OUTLINE_PART_SHARE = 0.05
+#: ... when the piece comes apart into at least this many parts (a pole's knob, a flower's head
+#: on its stem: 2; a ring of beads 6-10).
+OUTLINE_PART_COUNT = 3
 #: Half the widest neck (share of the diagonal) at which :func:`outline_parts` splits a part.
 OUTLINE_NECK = 0.012
 #: Spacing of the bolt's tips along the objects' outlines (share of the lattice's diagonal).
@@ -166,7 +169,23 @@ def outline_parts(sil: np.ndarray, min_part: float = OUTLINE_MIN_PART,
         lab, count = _colour_parts(lab, count, img[..., :3], min_part)
     # after the colours: where two objects differ in colour their border is sharper than
     # the distance map's watershed line
-    lab, count = _shape_parts(lab, count, min_part, _piece_floor(lab, s, min_part))
+    floor = _piece_floor(lab, s, min_part)
+    cut, cut_count = _shape_parts(lab, count, min_part, floor)
+    # parts under min_part of the picture stand only where their piece comes apart into
+    # several (a ring of beads, a cluster): a pole's knob, a flower's head on its stem and
+    # two small cores joined by a neck stay with the rest of their piece
+    comp, _ = ndimage.label(s, structure=np.ones((3, 3), bool))
+    sizes = np.bincount(cut.ravel())
+    again = False
+    for k, box in enumerate(ndimage.find_objects(comp), 1):
+        where = comp[box] == k
+        ks = np.unique(cut[box][where])
+        if ks.size < OUTLINE_PART_COUNT and (sizes[ks] < min_part * s.size).any():
+            mine = np.unique(lab[box][where])
+            if (floor[mine] < min_part * s.size).any():
+                floor[mine] = min_part * s.size
+                again = True
+    lab, count = _shape_parts(lab, count, min_part, floor) if again else (cut, cut_count)
     sizes = np.bincount(lab.ravel())
     # a part cut out of a piece by shape stands at the piece's floor (a bead of a ring); a
     # piece under min_part of the picture (a line of small text) still falls out
