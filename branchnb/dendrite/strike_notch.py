@@ -37,17 +37,18 @@ dendrite46 (``/tmp/dendrite46/measure.py``: rings of 6 / 8 / 10 bumpy beads 1.2 
 radii apart spanning 0.9 / 0.6 / 0.4 of the picture, 2 x 2 and 3 x 3 clusters 1.15-1.8 radii
 apart, at 256 / 512 / 768 px; exact == as many parts as beads and agreement > 0.6). Beads
 under ``OUTLINE_MIN_PART`` of the picture are cut at a floor of
-:data:`~branchnb.dendrite.strike_outline.OUTLINE_PART_SHARE` of their piece: rings 35 -> 61
+:data:`~branchnb.dendrite.strike_outline.OUTLINE_PART_SHARE` of their piece (when it
+comes apart into ``OUTLINE_PART_COUNT`` or more): rings 35 -> 61
 of 81 exact (10 beads 1.8 radii apart at 512 px 2 parts, 0.15 -> 10, 0.95). A cluster whose
 middle fills in (its inscribed radius ~1.4 discs') has its notches read again at
 :data:`NOTCH_CLUSTER_SCALE` of it, and a sharp notch whose partner stays blunt is cut along
 its halving line when that crosses a cut already made: 2 x 2 clusters 13 -> 22 of 24 exact,
 all 24 in 4 parts (1.15 radii apart at 512 px 1 part, 0.36 -> 4, 0.63; the ground truth gives
 each overlap to one disc, the cut halves it). The 119 word cases above unchanged. Limits:
-beads overlapping to 1.2 radii apart in a ring (4 -> 7 of 27 exact; 10 such beads at 256 / 768
-px, 3 of 6, stay one part) and 3 x 3 clusters 1.3 radii apart or closer (the middle
-disc never reaches the outline: 1-3 parts at 0.16-0.24 -> 2-10 parts at 0.20-0.36, some
-cuts inside discs) stay wrong;
+beads overlapping to 1.2 radii apart in a ring (4 -> 7 of 27 exact; 10 such beads at 256 /
+768 px, 3 of 6, stay one part; 6 at 768 px spanning 0.4, 3 -> 6 parts, 0.45 -> 0.39) and
+3 x 3 clusters 1.3 radii apart or closer (the middle disc never reaches the outline: 1-3
+parts at 0.16-0.24 -> 2-10 parts at 0.20-0.36, some cuts inside discs) stay wrong;
 3 x 3 clusters 1.5 radii apart or more come apart as before.
 """
 

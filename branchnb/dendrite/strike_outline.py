@@ -103,8 +103,9 @@ def outline_parts(sil: np.ndarray, min_part: float = OUTLINE_MIN_PART,
     from its outline's notches to the hole's corners
     (:func:`~branchnb.dendrite.strike_notch.split_round_hole`). A part cut out of one
     connected piece by shape may be as small as ``OUTLINE_PART_SHARE`` of that piece when
-    that is under ``min_part`` of the picture (the beads of a ring, dendrite46); separate
-    pieces under ``min_part`` still fall out.
+    that is under ``min_part`` of the picture and the piece comes apart into at least
+    ``OUTLINE_PART_COUNT`` parts (the beads of a ring, dendrite46); separate pieces under
+    ``min_part`` still fall out.
 
     Parameters
     ----------
