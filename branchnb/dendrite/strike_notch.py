@@ -31,9 +31,25 @@ Measured (``/tmp`` scripts of strokes41; parts == letters with both shares > 0.9
 none worse: "MOON" (6 parts, 0.53-0.55 -> 4 parts, 0.99) and "ZOOM" at 512 / 768 px. Rings of
 4-8 bumpy discs, centres 1.15-1.9 radii apart, 256 / 768 px: 6 discs 1.25 apart at 256 px 5
 -> 6 parts (agreement 0.50 -> 0.69), 1.15 apart at 768 px 1 -> 6 (0.24 -> 0.59), none worse.
-Limits: beads under ``OUTLINE_MIN_PART`` of the picture (8 in a ring at 256 or 768 px) and a
-2 x 2 cluster whose middle fills in with a blunt notch stay merged in pairs; letters whose
-join shows no notch (a "Z" and an "O" at 256 px) stay one part.
+Letters whose join shows no notch (a "Z" and an "O" at 256 px) stay one part.
+
+dendrite46 (``/tmp/dendrite46/measure.py``: rings of 6 / 8 / 10 bumpy beads 1.2 / 1.5 / 1.8
+radii apart spanning 0.9 / 0.6 / 0.4 of the picture, 2 x 2 and 3 x 3 clusters 1.15-1.8 radii
+apart, at 256 / 512 / 768 px; exact == as many parts as beads and agreement > 0.6). Beads
+under ``OUTLINE_MIN_PART`` of the picture are cut at a floor of
+:data:`~branchnb.dendrite.strike_outline.OUTLINE_PART_SHARE` of their piece (when it
+comes apart into ``OUTLINE_PART_COUNT`` or more): rings 35 -> 61
+of 81 exact (10 beads 1.8 radii apart at 512 px 2 parts, 0.15 -> 10, 0.95). A cluster whose
+middle fills in (its inscribed radius ~1.4 discs') has its notches read again at
+:data:`NOTCH_CLUSTER_SCALE` of it, and a sharp notch whose partner stays blunt is cut along
+its halving line when that crosses a cut already made: 2 x 2 clusters 13 -> 22 of 24 exact,
+all 24 in 4 parts (1.15 radii apart at 512 px 1 part, 0.36 -> 4, 0.63; the ground truth gives
+each overlap to one disc, the cut halves it). The 119 word cases above unchanged. Limits:
+beads overlapping to 1.2 radii apart in a ring (4 -> 7 of 27 exact; 10 such beads at 256 /
+768 px, 3 of 6, stay one part; 6 at 768 px spanning 0.4, 3 -> 6 parts, 0.45 -> 0.39) and
+3 x 3 clusters 1.3 radii apart or closer (the middle disc never reaches the outline: 1-3
+parts at 0.16-0.24 -> 2-10 parts at 0.20-0.36, some cuts inside discs) stay wrong;
+3 x 3 clusters 1.5 radii apart or more come apart as before.
 """
 
 from __future__ import annotations
@@ -47,6 +63,10 @@ __all__: list[str] = []
 #: a notch that :func:`split_at_notches` cuts from between round parts: two discs meeting at
 #: 1.4 radii make ~105-140, a bumpy blob's dents and a capsule's sides ~165-180.
 NOTCH_ROUND_ANGLE = 145.0
+#: Share of the piece's inscribed radius at which :func:`split_at_notches` reads round parts'
+#: notches again when none qualified (dendrite46): a 2 x 2 cluster 1.15 radii apart is ~1.4
+#: discs' radii deep in its middle, its notches read ~140-155 degrees there.
+NOTCH_CLUSTER_SCALE = 0.7
 #: Least depth of a notch (below the convex hull) over the piece's inscribed radius.
 NOTCH_DEPTH = 0.1
 #: Largest angle (degrees) between a cut between round parts and either notch's halving line.
@@ -255,22 +275,44 @@ def split_at_notches(piece: np.ndarray, least: float) -> np.ndarray | None:
     # disc's slices a disc off a 2 x 2 cluster's diagonal and leaves the other two joined);
     # all made at once (the cluster's two cuts cross in its middle)
     aim = np.cos(np.radians(NOTCH_ROUND_AIM))
-    segments = []
-    sharp = [nt for nt in notches if nt[1] <= NOTCH_ROUND_ANGLE]
-    for u in range(len(sharp)):
-        for v in range(u + 1, len(sharp)):
-            (i, _, di), (j, _, dj) = sharp[u], sharp[v]
-            e = (c[j] - c[i]) / max(float(np.hypot(*(c[j] - c[i]))), 1e-9)
-            if min(float(di @ e), float(-(dj @ e))) < aim:
+    cand = notches
+    for again in (False, True):
+        if again:
+            # a cluster whose middle fills in is deeper there than its parts are: its
+            # notches read again at a part's scale, every one under a hull edge (dendrite46)
+            r2 = NOTCH_CLUSTER_SCALE * rin
+            cand = _notches(c, NOTCH_DEPTH * r2, max(3, int(round(0.35 * r2))), every=True)
+        segments = []
+        sharp = [nt for nt in cand if nt[1] <= NOTCH_ROUND_ANGLE]
+        for u in range(len(sharp)):
+            for v in range(u + 1, len(sharp)):
+                (i, _, di), (j, _, dj) = sharp[u], sharp[v]
+                e = (c[j] - c[i]) / max(float(np.hypot(*(c[j] - c[i]))), 1e-9)
+                if min(float(di @ e), float(-(dj @ e))) < aim:
+                    continue
+                a1, s1, a2, s2 = sides(i, j)
+                if min(a1, a2) < least or min(s1, s2) < NOTCH_ROUND_SOLID or not _inside(piece, c[i], c[j]):
+                    continue
+                segments.append((c[i], c[j]))
+        # a sharp notch whose partner across a filled middle is too blunt to count (a 2 x 2
+        # cluster's fourth notch on a bumpy disc): cut straight in along its halving line to
+        # the far outline where that crosses a cut already made and leaves two round sides
+        # (dendrite46; an apple's dent crosses no cut)
+        used = {tuple(int(v) for v in p) for seg in segments for p in seg}
+        for i, _, di in (sharp if segments else []):
+            if tuple(int(v) for v in c[i]) in used:
                 continue
+            q = _ray_end(piece, c[i], di)
+            if q is None or not any(_crosses(c[i], q, p0, p1) for p0, p1 in segments):
+                continue
+            j = int(np.argmin(np.hypot(*(c - q).T)))
             a1, s1, a2, s2 = sides(i, j)
-            if min(a1, a2) < least or min(s1, s2) < NOTCH_ROUND_SOLID or not _inside(piece, c[i], c[j]):
-                continue
-            segments.append((c[i], c[j]))
-    if segments:
-        out = _cut(piece, segments, least)
-        if out is not None:
-            return out
+            if min(a1, a2) >= least and min(s1, s2) >= NOTCH_ROUND_SOLID:
+                segments.append((c[i], c[j]))
+        if segments:
+            out = _cut(piece, segments, least)
+            if out is not None:
+                return out
     # a row of strokes: the shortest cut from a sharp notch that leaves two long sides
     (_, _), (rw, rh), _ = cv2.minAreaRect(c.astype(np.float32))
     long, high = max(rw, rh), min(rw, rh)
@@ -325,6 +367,32 @@ def split_at_notches(piece: np.ndarray, least: float) -> np.ndarray | None:
         if out is not None:
             return out
     return None
+
+
+def _ray_end(piece: np.ndarray, p: np.ndarray, d: np.ndarray) -> np.ndarray | None:
+    """Last pixel of ``piece`` on the ray from ``p`` along ``d`` before it leaves the piece
+    (None when it leaves at once)."""
+    h, w = piece.shape
+    t = np.arange(1.0, float(np.hypot(h, w)))
+    xy = np.rint(p[None] + t[:, None] * d[None]).astype(int)
+    ok = (xy[:, 0] >= 0) & (xy[:, 0] < w) & (xy[:, 1] >= 0) & (xy[:, 1] < h)
+    ok[ok] = piece[xy[ok, 1], xy[ok, 0]]
+    # (the first pixels next to the notch may lie off the piece: start at the first inside)
+    first = np.flatnonzero(ok)
+    if first.size == 0:
+        return None
+    out = np.flatnonzero(~ok[first[0]:])
+    last = first[0] + (out[0] - 1 if out.size else ok.size - 1 - first[0])
+    return xy[last].astype(float) if last > first[0] + 2 else None
+
+
+def _crosses(p: np.ndarray, q: np.ndarray, a: np.ndarray, b: np.ndarray) -> bool:
+    """Whether the segments ``pq`` and ``ab`` cross."""
+    def side(u, v, w):
+        return float((v[0] - u[0]) * (w[1] - u[1]) - (v[1] - u[1]) * (w[0] - u[0]))
+
+    p, q, a, b = (np.asarray(x, float) for x in (p, q, a, b))
+    return side(p, q, a) * side(p, q, b) < 0 and side(a, b, p) * side(a, b, q) < 0
 
 
 def _axis(c: np.ndarray) -> tuple[tuple[float, float], tuple[float, float]]:

@@ -71,6 +71,15 @@ __all__: list[str] = []
 
 #: Smallest part of a silhouette (share of the picture) counted as an object of its own.
 OUTLINE_MIN_PART = 0.02
+#: Least part cut out of one connected piece of the silhouette by :func:`_shape_parts` (a share
+#: of that piece, when below ``OUTLINE_MIN_PART`` of the picture; dendrite46): beads of a ring
+#: (8-10 beads 1.2-1.8 radii apart, each 1-2 % of a 256-768 px picture, 10-12 % of the ring)
+#: and a 3 x 3 cluster's discs (11 %) came apart in pairs or not at all under the picture's
+#: floor; the 119 word cases keep their parts with 0.05.
+OUTLINE_PART_SHARE = 0.05
+#: ... when the piece comes apart into at least this many parts (a pole's knob, a flower's head
+#: on its stem: 2; a ring of beads 6-10).
+OUTLINE_PART_COUNT = 3
 #: Half the widest neck (share of the diagonal) at which :func:`outline_parts` splits a part.
 OUTLINE_NECK = 0.012
 #: Spacing of the bolt's tips along the objects' outlines (share of the lattice's diagonal).
@@ -92,7 +101,11 @@ def outline_parts(sil: np.ndarray, min_part: float = OUTLINE_MIN_PART,
     (:func:`~branchnb.dendrite.strike_notch.split_at_notches`: a 2 x 2 cluster of discs,
     the touching letters of a bold word); a ring of round parts round a hole is first cut
     from its outline's notches to the hole's corners
-    (:func:`~branchnb.dendrite.strike_notch.split_round_hole`).
+    (:func:`~branchnb.dendrite.strike_notch.split_round_hole`). A part cut out of one
+    connected piece by shape may be as small as ``OUTLINE_PART_SHARE`` of that piece when
+    that is under ``min_part`` of the picture and the piece comes apart into at least
+    ``OUTLINE_PART_COUNT`` parts (the beads of a ring, dendrite46); separate pieces under
+    ``min_part`` still fall out.
 
     Parameters
     ----------
@@ -157,9 +170,27 @@ def outline_parts(sil: np.ndarray, min_part: float = OUTLINE_MIN_PART,
         lab, count = _colour_parts(lab, count, img[..., :3], min_part)
     # after the colours: where two objects differ in colour their border is sharper than
     # the distance map's watershed line
-    lab, count = _shape_parts(lab, count, min_part)
-    sizes = np.bincount(lab.ravel(), minlength=count + 1)
-    keep = np.flatnonzero(sizes >= min_part * s.size)
+    floor = _piece_floor(lab, s, min_part)
+    cut, cut_count = _shape_parts(lab, count, min_part, floor)
+    # parts under min_part of the picture stand only where their piece comes apart into
+    # several (a ring of beads, a cluster): a pole's knob, a flower's head on its stem and
+    # two small cores joined by a neck stay with the rest of their piece
+    comp, _ = ndimage.label(s, structure=np.ones((3, 3), bool))
+    sizes = np.bincount(cut.ravel())
+    again = False
+    for k, box in enumerate(ndimage.find_objects(comp), 1):
+        where = comp[box] == k
+        ks = np.unique(cut[box][where])
+        if ks.size < OUTLINE_PART_COUNT and (sizes[ks] < min_part * s.size).any():
+            mine = np.unique(lab[box][where])
+            if (floor[mine] < min_part * s.size).any():
+                floor[mine] = min_part * s.size
+                again = True
+    lab, count = _shape_parts(lab, count, min_part, floor) if again else (cut, cut_count)
+    sizes = np.bincount(lab.ravel())
+    # a part cut out of a piece by shape stands at the piece's floor (a bead of a ring); a
+    # piece under min_part of the picture (a line of small text) still falls out
+    keep = np.flatnonzero(sizes >= _piece_floor(lab, s, min_part))
     keep = keep[keep > 0]
     out = np.zeros_like(lab)
     for i, k in enumerate(keep, 1):
@@ -327,13 +358,38 @@ def split_by_shape(piece: np.ndarray, least: float, neck: float = SHAPE_SPLIT_NE
     return np.where(piece, relabel[owner[basins]], 0)
 
 
-def _shape_parts(lab_img: np.ndarray, count: int, min_part: float) -> tuple[np.ndarray, int]:
+def _piece_floor(lab_img: np.ndarray, sil: np.ndarray, min_part: float) -> np.ndarray:
+    """Per part label of ``lab_img``: the least pixels of a part cut out of it by shape,
+    ``min_part`` of the picture or ``OUTLINE_PART_SHARE`` of the connected piece of ``sil``
+    it lies in, whichever is less, when that piece holds ``min_part`` of the picture (else
+    ``min_part`` of the picture: small separate pieces are no parts)."""
+    big = min_part * sil.size
+    comp, _ = ndimage.label(sil, structure=np.ones((3, 3), bool))
+    area = np.bincount(comp.ravel()).astype(float)
+    floor = np.full(int(lab_img.max()) + 1, big)
+    for k, box in enumerate(ndimage.find_objects(lab_img), 1):
+        if box is None:
+            continue
+        where = lab_img[box] == k
+        a = float(area[np.bincount(comp[box][where]).argmax()])
+        if a >= big:
+            floor[k] = min(big, OUTLINE_PART_SHARE * a)
+    return floor
+
+
+def _shape_parts(lab_img: np.ndarray, count: int, min_part: float,
+                 floor: np.ndarray | None = None) -> tuple[np.ndarray, int]:
     """The part labels ``lab_img`` (1..count) with every part split by shape
     (:func:`split_by_shape`, else
-    :func:`~branchnb.dendrite.strike_notch.split_at_notches`), and their parts again."""
+    :func:`~branchnb.dendrite.strike_notch.split_at_notches`), and their parts again; a
+    part's sides hold at least ``floor[label]`` pixels (``min_part`` of the picture without
+    ``floor``), and the floor of a part's sides is its own."""
     from .strike_notch import split_at_notches, split_round_hole
 
-    least = min_part * lab_img.size
+    big = min_part * lab_img.size
+    if floor is None:
+        floor = np.full(count + 1, big)
+    floor = list(np.asarray(floor, float))
     out = lab_img.copy()
     # a piece with no neck may still come apart at its outline's notches (a 2 x 2 cluster of
     # discs, a bold word), and its sides again, at a neck or at notches (dendrite43)
@@ -341,6 +397,7 @@ def _shape_parts(lab_img: np.ndarray, count: int, min_part: float) -> tuple[np.n
     while todo:
         k, depth = todo.pop()
         piece = out == k
+        least = floor[k]
         if depth >= 8 or piece.sum() < 2 * least:
             continue
         box = ndimage.find_objects(piece.astype(np.int8))[0]
@@ -357,6 +414,7 @@ def _shape_parts(lab_img: np.ndarray, count: int, min_part: float) -> tuple[np.n
         for j in range(2, int(split.max()) + 1):
             count += 1
             sub[split == j] = count
+            floor.append(least)
             todo.append((count, depth + 1))
         todo.append((k, depth + 1))
     return out, count
