@@ -64,11 +64,12 @@ leaves (12 per case, rngs 0-1), pieces of the centre's colours in the band per l
 ``tests/test_leaves_variegated.py`` at 240-900 px, 4-6 exemplars, cream and dark bands.)
 
 leaves88 (dark bands at 256 px, vein IoU 0.49 / 0.55 on exemplars 1 and 3): the exemplar's own delta
-reached only beside its own ridge pixels, not the snapped midrib (``analysis_masks._exemplar_mask``);
-now 0.53 / 0.89 (``tests/test_leaves_dark_band.py``). Open: exemplar 1's blobs along the band's
-inner edge (the pale side of its step taken for the exemplar's own vein pixels by
-:func:`~branchnb.leaves.own_contrast.exemplar_direction`), a pale strip where the background's removed
-band is wider than the pasted one; bands of 10 % of a 256-px image (most of the blade) are
+reached only beside its own ridge pixels, not the snapped midrib (``analysis_masks._exemplar_mask``),
+and those pixels took the pale side of the band's inner edge, a step and no line
+(:func:`~branchnb.leaves.own_contrast.exemplar_direction`); now 0.84 / 0.91
+(``tests/test_leaves_dark_band.py``). Open: the midrib's last 10 % at a narrow apex (exemplar 1), a
+pale strip where the background's removed band is wider than the pasted one; bands of 10 % of a
+256-px image (most of the blade) are
 not grown as a band on the training leaf (margin IoU 0.39).
 """
 

@@ -102,12 +102,13 @@ def exemplar_direction(lab, blade, prior, width: float, training_direction, *, r
     that, but moved the sample maples' retuned masks: not taken).
 
     leaves88: a pixel's projection counts only as far as it stands above both its sides (the
-    projection of its colour less its grey opening wider than the layer): the pale side of a step
-    edge is no line. Procedural variegated leaves with a dark margin band round a pale centre
-    (``tests/test_leaves_dark_band.py``, seeds 40-43): vein IoU of exemplars 1-3 at 256 px 0.533 /
-    0.868 / 0.892 -> 0.841 / 0.866 / 0.909, at 192 px 0.554 / 0.700 / 0.255 -> 0.801 / 0.828 /
-    0.419; band IoU down 0.00-0.03 there (0.938 -> 0.923, 192 px 0.897 -> 0.864); cream bands (240
-    px, 320 px seeds 44-47) unchanged.
+    projection of its colour less its grey opening, wider than the layer's median width and the
+    carried layer's thickest part): the pale side of a step edge is no line. Procedural variegated
+    leaves with a dark margin band round a pale centre (``tests/test_leaves_dark_band.py``, seeds
+    40-43): vein IoU of exemplars 1-3 at 256 px 0.533 / 0.868 / 0.892 -> 0.841 / 0.866 / 0.908, at
+    192 px 0.554 / 0.700 / 0.255 -> 0.794 / 0.818 / 0.396; band IoU there 0.938 -> 0.923 (256 px),
+    0.929 / 0.897 -> 0.900 / 0.883 (192 px); cream bands (240 px seeds 40-43, 320 px seeds 44-47)
+    unchanged. At the median width alone the midribs stood above nothing (cream 320 px 0.96 -> 0.66).
 
     Examples
     --------
