@@ -6,6 +6,7 @@ import pytest
 from branchnb.branching import extract_structure, synthesize_structure
 from branchnb.branching import radial_bearing as rb
 from branchnb.branching._radial_examples import radial_example
+from branchnb.branching.tropism import TROPISM_FLOOR
 from branchnb.core.structure import Branch, Structure
 
 
@@ -45,7 +46,7 @@ def test_fit_peaks_outward_and_is_mirror_symmetric():
     s.hubs = [(50.0, 50.0, 5.0)]
     w = rb._fit_radial_bearing(s)
     k = rb.TROPISM_BINS
-    assert w.shape == (k,) and w.min() >= rb.TROPISM_FLOOR
+    assert w.shape == (k,) and w.min() >= TROPISM_FLOOR
     assert set(np.argsort(w)[-2:]) == {k // 2 - 1, k // 2}          # the two bins either side of 0 rad
     assert np.allclose(w, w[::-1])
     # a candidate heading outward from a tip scores higher than one heading round the hub

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .tropism import TROPISM_BINS, TROPISM_FLOOR, TROPISM_POWER
+from .tropism import TROPISM_BINS, _angle_bin, _bearing_weights, _candidate_ends
 
 #: Switch (for measuring against the paper's relative-only growth).
 RADIAL_BEARING = True
@@ -29,9 +29,7 @@ RADIAL_NEAR = 1.5
 
 def _relative_bin(d: np.ndarray, out: np.ndarray) -> np.ndarray:
     """Bin (of :data:`~.tropism.TROPISM_BINS` over ``[-pi, pi)``) of the angle from ``out`` to ``d``."""
-    rel = np.arctan2(d[..., 1], d[..., 0]) - np.arctan2(out[..., 1], out[..., 0])
-    rel = np.mod(rel + np.pi, 2.0 * np.pi) - np.pi
-    return np.floor((rel + np.pi) / (2.0 * np.pi) * TROPISM_BINS).astype(np.int64) % TROPISM_BINS
+    return _angle_bin(np.arctan2(d[..., 1], d[..., 0]) - np.arctan2(out[..., 1], out[..., 0]))
 
 
 def _nearest_hub(points: np.ndarray, hubs: np.ndarray) -> np.ndarray:
@@ -63,10 +61,7 @@ def _fit_radial_bearing(structure) -> np.ndarray | None:
     if ln.sum() <= 0:
         return None
     hist = np.bincount(_relative_bin(d, out), weights=ln, minlength=TROPISM_BINS)
-    hist = 0.5 * (hist + hist[::-1])   # bin k holds [-pi + k w, ...): its mirror image is bin K-1-k
-    hist = (np.roll(hist, 1) + 2.0 * hist + np.roll(hist, -1)) / 4.0
-    hist = (hist / hist.mean()) ** TROPISM_POWER
-    return np.maximum(hist / hist.mean(), TROPISM_FLOOR)
+    return _bearing_weights(0.5 * (hist + hist[::-1]))   # bin k holds [-pi + k w, ...): its mirror is K-1-k
 
 
 def _radial_factor(weights: np.ndarray, hubs: np.ndarray, tip, pts: np.ndarray, n_new: np.ndarray) -> np.ndarray:
@@ -81,7 +76,7 @@ def _radial_factor(weights: np.ndarray, hubs: np.ndarray, tip, pts: np.ndarray, 
     out = tip - c
     if np.hypot(out[0], out[1]) <= 1e-9:
         return np.ones(n)
-    end = pts[np.arange(n), np.maximum(n_new, 1) - 1] - tip
+    end = _candidate_ends(tip, pts, n_new)
     return np.where(n_new > 0, weights[_relative_bin(end, np.broadcast_to(out, end.shape))], 1.0)
 
 

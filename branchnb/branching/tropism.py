@@ -82,22 +82,34 @@ def _fit_tropism(example: Structure, sides) -> np.ndarray | None:
     inward = np.asarray(_INWARD[int(sides[0])])
     if float((d @ inward).sum() / ln.sum()) < TROPISM_MIN:
         return None
-    hist = np.bincount(_bearing_bin(d), weights=ln, minlength=TROPISM_BINS)
+    return _bearing_weights(np.bincount(_bearing_bin(d), weights=ln, minlength=TROPISM_BINS))
+
+
+def _bearing_weights(hist: np.ndarray) -> np.ndarray:
+    """Weights of a length histogram over the bearing bins: smoothed [1, 2, 1] / 4 round the circle, to
+    :data:`TROPISM_POWER`, mean 1, at least :data:`TROPISM_FLOOR` (also :mod:`.radial_bearing`'s)."""
     hist = (np.roll(hist, 1) + 2.0 * hist + np.roll(hist, -1)) / 4.0
     hist = (hist / hist.mean()) ** TROPISM_POWER
     return np.maximum(hist / hist.mean(), TROPISM_FLOOR)
 
 
-def _bearing_bin(d: np.ndarray) -> np.ndarray:
-    ang = np.arctan2(d[..., 1], d[..., 0])
+def _angle_bin(ang: np.ndarray) -> np.ndarray:
+    """Bin (of :data:`TROPISM_BINS` over ``[-pi, pi)``) of angles in radians."""
     return (np.floor((ang + np.pi) / (2.0 * np.pi) * TROPISM_BINS).astype(np.int64)) % TROPISM_BINS
+
+
+def _bearing_bin(d: np.ndarray) -> np.ndarray:
+    return _angle_bin(np.arctan2(d[..., 1], d[..., 0]))
+
+
+def _candidate_ends(tip, pts: np.ndarray, n_new: np.ndarray) -> np.ndarray:
+    """``(N, 2)``: from ``tip`` to each candidate's last live point (``pts`` (N, K, 2), ``n_new`` live each)."""
+    return pts[np.arange(len(n_new)), np.maximum(n_new, 1) - 1] - np.asarray(tip, np.float64)
 
 
 def _tropism_factor(weights: np.ndarray, tip, pts: np.ndarray, n_new: np.ndarray) -> np.ndarray:
     """Score factor of candidates (``pts`` (N, K, 2) after ``tip``, ``n_new`` live points each): the
     example's weight of the bearing from the tip to a candidate's last point (1 for a dead candidate)."""
-    n = len(n_new)
-    if not n:
+    if not len(n_new):
         return np.ones(0)
-    end = pts[np.arange(n), np.maximum(n_new, 1) - 1] - np.asarray(tip, np.float64)
-    return np.where(n_new > 0, weights[_bearing_bin(end)], 1.0)
+    return np.where(n_new > 0, weights[_bearing_bin(_candidate_ends(tip, pts, n_new))], 1.0)
