@@ -27,6 +27,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.image import as_mask
+from ..core.metrics import iou
 
 #: Flip when the mirror image's best outline chamfer is at most this share of the unmirrored one's:
 #: two drawn oaks facing opposite ways score 0.62-0.65 at 128-640 px, the procedural lobed, trilobed and
@@ -143,9 +144,7 @@ def registered_blade_iou(registration, blade: np.ndarray, training_blade: np.nda
     >>> registered_blade_iou(register(c[1], c[0], b[1], b[0]), b[1], b[0]) > 0.9
     True
     """
-    warped = registration.to_training(np.asarray(blade, bool))
-    t = np.asarray(training_blade, bool)
-    return float((warped & t).sum() / max(int((warped | t).sum()), 1))
+    return iou(registration.to_training(np.asarray(blade, bool)), training_blade)
 
 
 def turned_over_fits(own, turned, blade, training_blade, *, gain: float = MIRROR_GAIN) -> bool:
