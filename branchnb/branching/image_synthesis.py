@@ -505,9 +505,10 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     if getattr(target_structure, "hubs", None) and getattr(example_structure, "hubs", None):
         # nor the example's hubs (drawn whole at the output's hubs): copied along a spoke, their fill
         # made fat wedges on the primaries beside the hub (beyond the paper, issue 23)
-        from .radial import _hub_discs
+        from .radial import _hub_discs, _off_hubs
 
         unusable = unusable | _hub_discs(example_structure.hubs, unusable.shape)
+        lib_b, lib_f = _off_hubs(lib_b, example_structure.hubs), _off_hubs(lib_f, example_structure.hubs)
     ctx = _Context(ex, sm_s, sm_t, pm_s, excluded, unusable, p)
     free_t = _free_ends(sm_t, pm_t)
     if len(lib_b) == 0:
