@@ -509,6 +509,9 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
         from .radial import _hub_discs, _off_hubs
 
         unusable = unusable | _hub_discs(example_structure.hubs, unusable.shape)
+        # ... so no source fragment reaching into them either (it copied almost nothing: bars across the
+        # primaries every fragment), and the lines' soft edges stay out of the gaps' correction (glowing
+        # or blurred dark tips; branching116)
         lib_b, lib_f = _off_hubs(lib_b, example_structure.hubs), _off_hubs(lib_f, example_structure.hubs)
         from .gap_completion import HUB_LINE_MARGIN
 
