@@ -12,9 +12,10 @@ each with the defaults and prints:
 - ``tip``: per free end, the line contrast in a disc of max(6, 4 r) px farther than r + 2.5 px from
   every line, over pi r^2 (0: a clean tip), median and 90th percentile, example / synthesized.
 
-branching116 (main -> now): seam 0.08-0.20 -> 0.00-0.02 on the eight cases with bars (example
-0.00-0.03; fragments from the example's hub disc, :func:`.radial._off_hubs`), tip median 0.20-0.90 ->
-0.07-0.23 (example 0.09-0.68; :data:`.gap_completion.HUB_LINE_MARGIN`).
+branching116 (main -> now, the ten cases): seam 0.08-0.20 -> 0.00-0.02 on the eight with bars (example
+0.005-0.026; fragments from the example's hub disc, :func:`.radial._off_hubs`); tip median 0.20-1.13 ->
+0.09-0.25, 90th percentile 0.57-2.47 -> 0.19-1.91 (example 0.13-0.90 / 0.27-2.16: its traced tips stop
+short of the drawn ones; :data:`.gap_completion.HUB_LINE_MARGIN`).
 """
 # ruff: noqa: E702
 from __future__ import annotations

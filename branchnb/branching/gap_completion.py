@@ -38,10 +38,11 @@ TEXTURE_SHARE = 0.2
 #: Side of the quilting patches on a patchwork ground, as a fraction of its patches' typical diameter.
 PATCHWORK_PATCH = 0.5
 #: ``line_margin`` of hub examples (:func:`_complete`, branching116): the fragments' pixels within
-#: r + this many px of a target line are neutral in the gaps' correction. Coral / neuron 384 s1
-#: (hub examples, whose thin twigs get disks of ``min_radius`` that end about at the tip): stray line
-#: colour round free ends per tip, median 0.48 -> 0.18 and 0.56 -> 0.20 of the tip's disc (r + 1 px:
-#: the lines' soft edges were the correction's boundary and glowed 4-5 px into the ground)
+#: r + this many px of a target line are neutral in the gaps' correction. With r + 1 px the lines' soft
+#: edges were its boundary and glowed 4-5 px into the ground, most round free ends, where a thin
+#: twig's disk (``min_radius``) stops about at the tip. Stray line colour per tip (median,
+#: :mod:`._hub_image_check`, ten hub examples 256-768 px): 0.20-1.13 -> 0.09-0.25 (example 0.13-0.90;
+#: :func:`.radial._off_hubs` alone left about 0.5 on coral and neuron_dark 384 s1)
 HUB_LINE_MARGIN = 3.0
 
 
