@@ -173,15 +173,17 @@ def drawing_style(image: np.ndarray, structure: Structure, layout: np.ndarray, p
         span = np.linalg.norm(np.asarray(colour, np.float32) - region_col, axis=-1)
         return np.clip(off_region / np.maximum(span, 1e-6), 0.0, 1.0) * (span > tol)
 
-    lengths = [b.length for b in structure.branches]
-    total = max(float(np.sum(lengths)), 1.0)
-    mean_r = float(np.sum([b.length * np.mean(b.thickness) for b in structure.branches])) / total
+    # the width is measured along the branches' stretches that lie in the branch region: a stretch in
+    # another region is no line drawn on it (a sea strait between two islands that the wide-line search
+    # took for a 40 px river, issue 23): its 20-34 px radius against the coast lines' ink halved the
+    # scale, and the output's 2 px rivers came out as faint 1 px dashes (768 px two-island map: 80-121
+    # line pieces per tree, 208-338 specks)
+    inside = lay == branch_region
+    total, mean_r = _length_and_radius(structure, inside)
     zone = pm.dist <= 3 * max(mean_r, 1.0) + 3
     drawn = float(cover(line)[zone].sum())
     width = drawn / total
     scale = float(np.clip(width / max(2 * mean_r, 1e-6), 0.25, 4.0)) if drawn else 1.0
-    # the boundary of the branch region, away from the branches and the frame
-    inside = lay == branch_region
     b_col, b_width = _boundary_line(img, inside, lay, k, pm, mean_r, off_region, unlike_region, line, cover,
                                     cols, tol)
     direct = b_col is not None
@@ -266,6 +268,32 @@ def drawing_style(image: np.ndarray, structure: Structure, layout: np.ndarray, p
     return DrawingStyle(cols.astype(np.float32), branch_region, line.astype(np.float32), scale,
                         None if b_col is None else b_col.astype(np.float32), b_width, reach, tip_reach,
                         textures or None, two_tone, taper, tip_r, profile, dashes)
+
+
+def _length_and_radius(structure: Structure, inside: np.ndarray) -> tuple[float, float]:
+    """(length, length-weighted mean radius) of the branches' segments that lie in ``inside``: both
+    ends on it and at most 1 px less deep in it than their radius (a line drawn on a region stays in
+    it); of all segments when under half of the length does (the region does not hold the lines)."""
+    h, w = inside.shape
+    depth = ndi.distance_transform_edt(inside)
+    seg, rad, ins = [], [], []
+    for b in structure.branches:
+        p = np.asarray(b.points, np.float64)
+        if len(p) < 2:
+            continue
+        t = np.asarray(b.thickness, np.float64)
+        q = np.rint(p).astype(int)
+        on = depth[np.clip(q[:, 1], 0, h - 1), np.clip(q[:, 0], 0, w - 1)] + 1.0 >= np.maximum(t, 0.5)
+        seg.append(np.hypot(*np.diff(p, axis=0).T))
+        rad.append(0.5 * (t[1:] + t[:-1]))
+        ins.append(on[1:] & on[:-1])
+    if not seg:
+        return 1.0, 0.0
+    seg, rad, ins = np.concatenate(seg), np.concatenate(rad), np.concatenate(ins)
+    if seg[ins].sum() < 0.5 * seg.sum():
+        ins[:] = True
+    total = max(float(seg[ins].sum()), 1.0)
+    return total, float(np.sum(seg[ins] * rad[ins])) / total
 
 
 def _boundary_line(img, inside, lay, k, pm, mean_r, off_region, unlike_region, line, cover, cols, tol):
