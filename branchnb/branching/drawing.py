@@ -69,12 +69,14 @@ class DrawingStyle:
         from it at the same place (mirrored beyond its size). None or a
         missing label: the flat colour.
     two_tone : bool
-        The example is a binary line mask (one region, every pixel either
-        its colour or the line colour, no anti-aliasing): the drawing is
-        snapped to those two colours, each branch keeping an unbroken
-        8-connected centre line (beyond the paper: a mask synthesized from
-        a mask stays a mask, and its one-pixel lines stay whole and full
-        strength).
+        The example is a binary line mask (every pixel a region's colour or
+        the line colour, no anti-aliasing, no boundary line: one ground, or
+        a delta's land and sea): the drawing is snapped to those colours,
+        each branch keeping an unbroken 8-connected centre line (beyond the
+        paper: a mask synthesized from a mask stays a mask, and its one-pixel
+        lines stay whole and full strength; with a sea, issue 23, three
+        384-1024 px deltas: grey pixels 0.6-1.4 % -> 0, one seed's 9 line
+        pieces and 8 specks -> 1 and 0).
     taper : float or None
         For masks (one ground, or lines in the colour of a region: a delta's
         channels in the sea's): the example's median end-to-start radius
@@ -256,8 +258,11 @@ def drawing_style(image: np.ndarray, structure: Structure, layout: np.ndarray, p
         band = max(band, float(np.max(np.abs(profile[0]))))
     textures = _region_textures(img, lay, cols, pm, line, band, branch_region, b_col)
     # a binary line mask: every pixel is the ground colour or the line colour
-    two_tone = bool(k == 1 and b_col is None and not textures
-                    and np.all(np.minimum(np.abs(img - cols[0]).max(-1), np.abs(img - line).max(-1)) <= 1.5 / 255))
+    # (and a binary mask with a sea, k == 2: a delta's white channels and sea on black land, where
+    # each pixel is a region's colour or the line's; drawn anti-aliased, 0.6-1.4 % of the output's
+    # pixels were grey and thin channels faded into dashes: 384 px delta, 9 pieces, 8 specks)
+    two_tone = bool(b_col is None and not textures and profile is None
+                    and np.all(np.min([np.abs(img - c).max(-1) for c in list(cols) + [line]], axis=0) <= 1.5 / 255))
     # a mask (lines on one ground, or drawn in a region's own colour: a delta's channels in the sea's
     # colour) is drawn with the example's taper; a map's rivers in their own ink keep their radii
     taper, tip_r = None, 0.0
@@ -716,7 +721,7 @@ def draw_in_style(style: DrawingStyle, structure: Structure, labels: np.ndarray,
         wide = [i for i, x in enumerate(raw) if np.median(x) >= 1.5]
         cov = coverage_polylines((h, w), [pls[i] for i in wide], [wid[i] for i in wide])[0] if wide \
             else np.zeros((h, w), np.float32)
-        return _two_tone(cov >= 0.5, pls, cols[style.branch_region], style.line_colour)
+        return _two_tone(cov >= 0.5, pls, img, style.line_colour)
     if pls:
         cov, owner = coverage_polylines((h, w), pls, wid)
         # a line thinner than a pixel is drawn one pixel wide at that share of the ink (as the
@@ -728,7 +733,7 @@ def draw_in_style(style: DrawingStyle, structure: Structure, labels: np.ndarray,
 
 def _two_tone(ink: np.ndarray, lines: list, ground: np.ndarray, line: np.ndarray) -> np.ndarray:
     """A two-colour drawing: ``ink`` pixels and every line's 8-connected centre-line raster in the
-    ``line`` colour, the rest ``ground``."""
+    ``line`` colour, the rest ``ground`` (a colour, or an (H, W, C) image of the regions' colours)."""
     import cv2
 
     g, c = np.asarray(ground, np.float32), np.asarray(line, np.float32)
@@ -738,4 +743,5 @@ def _two_tone(ink: np.ndarray, lines: list, ground: np.ndarray, line: np.ndarray
         cv2.polylines(centre, [np.round(np.asarray(pts, np.float64) * 8).astype(np.int32)], False, 1, 1,
                       cv2.LINE_8, 3)
     ink |= centre > 0
+    g = g if g.ndim == 3 else np.broadcast_to(g, ink.shape + g.shape)
     return np.where(ink[..., None], c, g).astype(np.float32)
