@@ -19,6 +19,7 @@ from scipy import ndimage as ndi
 
 from ..core.distance import edt as _edt
 from ..core.graphcut import gradient_magnitude
+from .outline import outline_style
 from .tubes import _tube_margin
 
 #: The other part's pixels grown by this much (px): its anti-aliased rim and outline go with it.
@@ -258,6 +259,13 @@ _OVER_SHARE = 0.5
 _DISK = np.hypot(*np.mgrid[-2:3, -2:3]) <= 2.0
 #: Least pixels of the part deep in the stroke's flesh (within :data:`_DEEP` of its half width).
 _OVER_DEEP = 4
+#: A part's outline ink crossing the stroke's flesh (inside the stroke's own outline) in at
+#: least this many px is drawn over the stroke (a flower's leaf over its stem at 200 px: 10-20 px).
+_OVER_INK = 4
+#: ... else its flesh's median colour this far (RGB) from the stroke's (a cherry's red over a brown twig).
+_OVER_COLOUR = 0.2
+#: Colour distance (RGB) within which a pixel is the outline's ink.
+_OVER_INKED = 0.1
 
 
 def _parts_over(index, tubes: dict, keys: list, cuts: list, joined: list, window: float = 3.0) -> None:
@@ -283,7 +291,12 @@ def _parts_over(index, tubes: dict, keys: list, cuts: list, joined: list, window
     for pi, part in enumerate(index.parts):
         if part.contact and not part.at_end and not part.body and part.tip is None:
             by_key.setdefault((keys[part.stroke], cuts[part.stroke]), []).append(pi)
+    if not by_key:
+        return
     rgb = index.premult[..., :3] / np.maximum(index.premult[..., 3:], 1e-6)
+    style = outline_style(index.premult, index.depth)
+    if style is not None:
+        colour, width = np.asarray(style.colour, np.float32), float(style.width)
     for key, pis in by_key.items():
         k = index.parts[pis[0]].stroke
         d, s_map, tube, interior, endw, core = tubes[key]
@@ -293,7 +306,6 @@ def _parts_over(index, tubes: dict, keys: list, cuts: list, joined: list, window
         box = (slice(rows.min(), rows.max() + 1), slice(cols.min(), cols.max() + 1))
         db, sb = d[box], s_map[box]
         ws, we = index.width_s[k], np.asarray(index.edge[k], float)
-        edge_b = np.interp(sb, ws, we)
         # the stroke's own pixels (no other stroke's tube, not past its ends)
         zone = core[box] & interior[box] & (endw[box] > 0.5)
         for okey, tb_o in tubes.items():
@@ -326,14 +338,36 @@ def _parts_over(index, tubes: dict, keys: list, cuts: list, joined: list, window
             continue
         mine = index.allowed[k][box] & (index.weight[k][box] > 0.5)
         clean = zone & ~ndi.binary_dilation(near | index.part_mask[box] | ~mine, iterations=_CLEAR)
-        got = _refill(index, k, box, near, clean, window, ws, we)
-        if got is None:
+        # the silhouette's width where a part lies across the stroke is the part's (its tube was
+        # not bridged there): bridged from the stroke's own widths on either side, part by part
+        lost = np.zeros(len(ws), bool)
+        for loc, _ in masks.values():
+            sf = sb[loc][near[loc]]
+            if len(sf):
+                lost |= (ws >= sf.min() - _CLEAR) & (ws <= sf.max() + _CLEAR)
+        if lost.all():
             continue
-        filled, vals, _ = got
-        look = np.zeros((*zone.shape, 3), np.float32)
-        look[filled] = vals[:, :3] / np.maximum(vals[:, 3:], 1e-6)
+        if lost.any():
+            we = we.copy()
+            we[lost] = np.interp(ws[lost], ws[~lost], we[~lost])
+        edge_b = np.interp(sb, ws, we)
+        # beyond the stroke's own silhouette (where its tube was not bridged) it shows the ground
+        inside = near & (db <= edge_b + 1.0)
+        look = np.zeros((*zone.shape, 4), np.float32)
+        filled = near & ~inside
+        if inside.any():
+            got = _refill(index, k, box, inside, clean, window, ws, we)
+            if got is not None:
+                filled |= got[0]
+                look[got[0]] = got[1]
         src = rgb[box]
-        diff = filled & (np.linalg.norm(src - look, axis=-1) > _OVER_DIFF)
+        if style is not None:
+            ink = (np.linalg.norm(src - colour, axis=-1) <= _OVER_INKED) & (index.premult[box][..., 3] > 0.5)
+            look_ink = np.linalg.norm(look[..., :3] - colour, axis=-1) <= _OVER_INKED  # (look: alpha 1 inside)
+        else:
+            ink, look_ink = None, np.zeros(zone.shape, bool)
+        # (premultiplied: the part's outline against the ground beyond the stroke's edge)
+        diff = filled & (np.linalg.norm(index.premult[box] - look, axis=-1) > _OVER_DIFF)
         for pi, (loc, mb) in masks.items():
             part = index.parts[pi]
             df, nr, sl = diff[loc], near[loc], src[loc]
@@ -344,11 +378,28 @@ def _parts_over(index, tubes: dict, keys: list, cuts: list, joined: list, window
             if not over.any():
                 continue
             # most of them look like the part (its flesh or its outline), not like the stroke
-            own = sl[mb & (index.premult[box][loc][..., 3] > 0.5)]
+            solid = mb & (index.premult[box][loc][..., 3] > 0.5)
+            own = sl[solid]
             if len(own) > 256:
                 own = own[np.linspace(0, len(own) - 1, 256).astype(int)]
             dist = np.min(np.linalg.norm(sl[over][:, None] - own[None], axis=-1), axis=1)
             if (dist <= _OVER_OWN).mean() < _OVER_SHARE:
+                continue
+            # and the part is drawn over the stroke: its outline crosses the stroke's flesh (ink
+            # inside the stroke's own outline where the stroke shows none), or its flesh is of
+            # another colour than the stroke's (a piece of a striped body the stroke's tube cut
+            # off differs from the stripes filled in, yet is neither)
+            if ink is not None:
+                inner = over & ink[loc] & ~look_ink[loc] & (db[loc] < edge_b[loc] - width - 0.5)
+                drawn = int(inner.sum()) >= _OVER_INK
+            else:
+                drawn = False
+            if not drawn:
+                flesh = solid & ~ink[loc] if ink is not None else solid
+                theirs = inside[loc] & filled[loc] & ~look_ink[loc]
+                drawn = bool(flesh.any() and theirs.any()) and float(np.linalg.norm(
+                    np.median(sl[flesh], axis=0) - np.median(look[loc][theirs][:, :3], axis=0))) > _OVER_COLOUR
+            if not drawn:
                 continue
             # the holes they close round the part's flesh (flesh of the stroke's colour under it)
             over |= ndi.binary_fill_holes(ndi.binary_closing(over | mb, structure=_DISK) | mb) & nr & ~mb
