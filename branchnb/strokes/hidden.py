@@ -338,36 +338,21 @@ def _parts_over(index, tubes: dict, keys: list, cuts: list, joined: list, window
             continue
         mine = index.allowed[k][box] & (index.weight[k][box] > 0.5)
         clean = zone & ~ndi.binary_dilation(near | index.part_mask[box] | ~mine, iterations=_CLEAR)
-        # the silhouette's width where a part lies across the stroke is the part's (its tube was
-        # not bridged there): bridged from the stroke's own widths on either side, part by part
-        lost = np.zeros(len(ws), bool)
-        for loc, _ in masks.values():
-            sf = sb[loc][near[loc]]
-            if len(sf):
-                lost |= (ws >= sf.min() - _CLEAR) & (ws <= sf.max() + _CLEAR)
-        if lost.all():
-            continue
-        if lost.any():
-            we = we.copy()
-            we[lost] = np.interp(ws[lost], ws[~lost], we[~lost])
         edge_b = np.interp(sb, ws, we)
-        # beyond the stroke's own silhouette (where its tube was not bridged) it shows the ground
-        inside = near & (db <= edge_b + 1.0)
+        got = _refill(index, k, box, near, clean, window, ws, we)
+        if got is None:
+            continue
+        filled = got[0]
         look = np.zeros((*zone.shape, 4), np.float32)
-        filled = near & ~inside
-        if inside.any():
-            got = _refill(index, k, box, inside, clean, window, ws, we)
-            if got is not None:
-                filled |= got[0]
-                look[got[0]] = got[1]
+        look[filled] = got[1]
+        look[..., :3] /= np.maximum(look[..., 3:], 1e-6)
         src = rgb[box]
+        diff = filled & (np.linalg.norm(src - look[..., :3], axis=-1) > _OVER_DIFF)
         if style is not None:
             ink = (np.linalg.norm(src - colour, axis=-1) <= _OVER_INKED) & (index.premult[box][..., 3] > 0.5)
             look_ink = np.linalg.norm(look[..., :3] - colour, axis=-1) <= _OVER_INKED  # (look: alpha 1 inside)
         else:
             ink, look_ink = None, np.zeros(zone.shape, bool)
-        # (premultiplied: the part's outline against the ground beyond the stroke's edge)
-        diff = filled & (np.linalg.norm(index.premult[box] - look, axis=-1) > _OVER_DIFF)
         for pi, (loc, mb) in masks.items():
             part = index.parts[pi]
             df, nr, sl = diff[loc], near[loc], src[loc]
@@ -396,7 +381,7 @@ def _parts_over(index, tubes: dict, keys: list, cuts: list, joined: list, window
                 drawn = False
             if not drawn:
                 flesh = solid & ~ink[loc] if ink is not None else solid
-                theirs = inside[loc] & filled[loc] & ~look_ink[loc]
+                theirs = filled[loc] & ~look_ink[loc]
                 drawn = bool(flesh.any() and theirs.any()) and float(np.linalg.norm(
                     np.median(sl[flesh], axis=0) - np.median(look[loc][theirs][:, :3], axis=0))) > _OVER_COLOUR
             if not drawn:
