@@ -109,6 +109,10 @@ __all__ = ["facet_palette", "straighten_facets", "MIN_FACETS", "MAX_CORNERS"]
 MIN_FACETS = 4
 #: Least number of distinct shades (farther apart than :data:`SHADE_TOL`) of a faceted crown.
 MIN_SHADES = 3
+#: Most distinct shades of a faceted crown (trees60): low-poly crowns of 4 palettes and continuous
+#: shading through a ``TreeLibrary`` at 96-256 px 3-11, painterly dab crowns 35-50 (one colour a
+#: dab); one hue shaded over its whole range gives at most 1/SHADE_TOL = 25.
+MAX_SHADES = 24
 #: Colours of the facet regions closer than this (largest channel difference) are one shade.
 SHADE_TOL = 0.04
 #: Most corners (after :data:`CORNER_TOL` simplification) of a facet polygon.
@@ -166,6 +170,16 @@ SLIVER_KEEP = 0.8
 #: 0-0.47 (continuously shaded facets), shaded photo crowns (plain tree, poplar, evergreen) 0.71-1.
 GRADIENT_SHARE = 0.6
 GRADIENT_STEP = 2.0 / 64
+#: Share of a crown's pixels farther than :data:`FLAT_REACH` of the drawing's pixels from every flat
+#: region above which it is no faceted crown (trees60): the anti-aliased steps between facets lie
+#: within 1-2 px of a facet, a painterly crown's dabs are mostly too small for a region.
+FLAT_FAR = 0.5
+FLAT_REACH = 2.5
+#: A source enlarged smoothly (bicubic) to the working size has its facet edges blurred over about
+#: this many of its own pixels: ``pixel`` of :func:`facet_palette` for it (trees60; ``TreeLibrary``
+#: crowns at 64/96/128/200/256 px found 77/96/97/90/87 -> 89/104/121/128/134 of 180 at 1.5,
+#: 87/106/115/132/155 at 1.8 with more controls taken at 200 px).
+SMOOTH_BLUR = 1.5
 #: Supersampling of the redrawn polygons (their edges anti-aliased as the sources').
 _SUPER = 4
 
@@ -423,8 +437,14 @@ def facet_palette(image, trunk=None, *, pixel: float = 1.0) -> np.ndarray | None
     if n < MIN_FACETS:
         return None
     # every crown pixel to its nearest region: the anti-aliased steps belong to their facets
-    _, (iy, ix) = ndi.distance_transform_edt(lab == 0, return_indices=True)
+    gap, (iy, ix) = ndi.distance_transform_edt(lab == 0, return_indices=True)
     near = lab[iy, ix]
+    # ... but only steps: a crown mostly out of reach of any flat region (small painterly dabs,
+    # each too small for a region) would be cut into the flat regions' Voronoi cells, polygons
+    ys, xs = np.nonzero(crown)
+    unit = max(float(pixel), max(np.ptp(ys), np.ptp(xs)) / STRAIGHT_REF)
+    if (gap[crown] > FLAT_REACH * unit).mean() > FLAT_FAR:
+        return None
     whole = np.where(crown, near, 0)
     ids = np.arange(n + 1)
     cols = np.stack([ndi.mean(img[..., c], lab, ids) for c in range(3)], axis=1)
@@ -439,8 +459,6 @@ def facet_palette(image, trunk=None, *, pixel: float = 1.0) -> np.ndarray | None
     # tolerances in the drawing's own units: its pixel, or for a large drawing a share of the
     # crown's size (a big low-poly crown has facets as big, meeting at shallow corners a few px
     # off the chord that a fixed pixel tolerance would take for a curve's)
-    ys, xs = np.nonzero(crown)
-    unit = max(float(pixel), max(np.ptp(ys), np.ptp(xs)) / STRAIGHT_REF)
     stats = {}
     for j, sl in enumerate(ndi.find_objects(whole), 1):
         if sl is not None and not good[j]:
@@ -464,7 +482,9 @@ def facet_palette(image, trunk=None, *, pixel: float = 1.0) -> np.ndarray | None
     pal = np.unique(np.round(cols[good] * _QUANT) / _QUANT, axis=0).astype(np.float32)
     # at least MIN_SHADES shades apart: a two-tone drawing (a fir lit from one side) resampled
     # splits each fill at the quantisation's steps into near twins, no low-poly palette
-    if len(_shades(pal)) < MIN_SHADES:
+    shades = len(_shades(pal))
+    # ... and at most MAX_SHADES: a painterly crown's dabs each take their own colour
+    if shades < MIN_SHADES or shades > MAX_SHADES:
         return None
     return pal
 
