@@ -72,7 +72,7 @@ width off; an outer outline whose polygon keeps under :data:`SLIVER_KEEP` of its
 distance taken at half the tolerance (its corner counts are not, so a thin crescent still
 multiplies its corners as a curve). A smoothly shaded crown (a photo, an airbrushed fir) cut by
 the 1/64 quantisation into bands one step apart is no faceted crown (:data:`GRADIENT_SHARE`).
-Figures (``/tmp/trees58/evallib.py``: 180 procedural low-poly trees per size, 3 facet counts,
+Figures (a session script, trees58: 180 procedural low-poly trees per size, 3 facet counts,
 5 palettes, anti-aliased or hard, round/cone/tall, through a ``TreeLibrary`` of that size; 71
 controls: sample photos and RPG trees, synthetic, drawn, sticker, sprite, clip-art, cel and
 painterly trees, curved fills): found at 64/96/128/200/256 px 55/67/77/80/81 -> 78/96/97/90/87;
@@ -88,16 +88,16 @@ with ``pixel`` :data:`SMOOTH_BLUR` times its source pixel (at most :data:`SMOOTH
 ``flat_art``). A painterly crown of small flat dabs (each dab too small for a region) was cut into its
 few regions' Voronoi cells and passed as facets: a crown with more than :data:`FLAT_FAR` of its pixels
 farther than :data:`FLAT_REACH` of the drawing's pixels from any flat region, or with more than
-:data:`MAX_SHADES` shades, is not faceted. Figures (``/tmp/trees60/evalc.py``, the trees58 sets: 180
+:data:`MAX_SHADES` shades, is not faceted. Figures (the trees58 sets: 180
 procedural low-poly trees per size through a ``TreeLibrary``, 71 controls): found at 64/96/128/200/256
 px 78/96/97/90/87 -> 84/104/121/128/134; controls taken 4/5/5/4/1 -> 1/1/3/7/3, painterly none
 (before 3/3/3/0/0); all new ones outlined (which the mixes leave out), still taken an unoutlined
-pixel-art palm at 200-256 px and cel tree at 200 px. ``/tmp/trees60/eval60.py`` (a second generator of straight cuts lit per
+pixel-art palm at 200-256 px and cel tree at 200 px. A second set (a generator of straight cuts lit per
 cell, sources drawn at 0.6-1.6 times the size; controls: round and stroke dabs, watercolour, photo-like,
 sprites, stickers): found at 64/96/128 px 41/47/50 -> 42/48/54 of 65, controls 1/5/2 -> 0/0/0 of 19.
 A larger tolerance also loses a few crowns whose thin facets it collapses (2 of 12 at 200 px, while
-it finds 2 others). Mixes (``/tmp/trees60/mixes.py``): at 96 px the redraw of now-found libraries
-merges thin facets (2-4 px wide) into blobs (left as is; see the report).
+it finds 2 others). Mixes: at 96 px the redraw of now-found libraries
+merges thin facets (2-4 px wide) into blobs (left as is: the redraw did so on main too).
 
 Crowns with curved fills (cel shading, clumps, cartoon leaves), outlined
 or bordered crowns (an ink or sticker ring is no polygon) and pixel art are
