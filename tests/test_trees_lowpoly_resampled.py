@@ -10,6 +10,7 @@ from __future__ import annotations
 import cv2
 import numpy as np
 import pytest
+from trees_facets import reduce_drawing
 
 from branchnb.trees import TreeLibrary
 from branchnb.trees.flat_art import _exemplar_facets
@@ -60,12 +61,7 @@ def cut_tree(size, seed, cuts=12, cone=False, aa=True):
         q = np.round(p).astype(np.int32)
         for m, v in ((rgb, tuple(map(float, col))), (a, 1.0), (tr, 0.0)):
             cv2.fillPoly(m, [q], v)
-    if ss > 1:
-        prem = cv2.resize(np.dstack([rgb * a[..., None], a]), (size, size), interpolation=cv2.INTER_AREA)
-        a = prem[..., 3]
-        rgb = np.clip(prem[..., :3] / np.maximum(a, 1e-6)[..., None], 0, 1)
-        tr = cv2.resize(tr, (size, size), interpolation=cv2.INTER_AREA)
-    return np.dstack([rgb, a]).astype(np.float32), (tr >= 0.5) & (a >= 0.5)
+    return reduce_drawing(rgb, a, tr, size, ss)
 
 
 def dabs(size, seed, round_=True, n=250):
