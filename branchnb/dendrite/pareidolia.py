@@ -406,6 +406,9 @@ _TONE_MEAN = 0.5
 _GROUND_TONE = 0.15
 #: Extra random endpoints on that ground, per stippled endpoint and share of the crown.
 _GROUND_TWIGS = 0.3
+#: Extra node cost (x ``cost_weight``) of the picture outside the crown. 0 (none): twigs
+#: left the crown along strong edges next to it (``_margin_check``).
+_OFF_CROWN = 3.0
 
 
 
@@ -532,6 +535,12 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
         noise = p.noise_image + (p.noise_random - p.noise_image) * ramp
         img_side = ramp < 0.5
     cost = p.cost_weight * (1.0 - imp.astype(np.float64))
+    # the picture outside the crown is dear (beyond the paper): paths to endpoints near the
+    # crown's edge ran along strong edges outside it (a tower by the frame) into the margin
+    off = np.zeros((h, w), bool)
+    if _OFF_CROWN > 0:
+        off[:hi] = ~crown[:hi]
+        cost[off] += _OFF_CROWN * p.cost_weight
 
     # iteration 1: the trunk on a calm random lattice, the limbs on the image lattice
     fork = _fork_point(crown, dark_limbs, p.crown_blur)
@@ -558,6 +567,7 @@ def pareidolia_tree(image, params: PareidoliaParams | None = None, *, rng=None) 
     # followed strong edges, up the middle of a bright object (a lit rocket at night)
     limb_cost = p.cost_weight * (1.0 - np.clip(ndimage.gaussian_filter(
         dark_limbs.astype(np.float64), 0.5 * p.crown_blur), 0.0, 1.0))
+    limb_cost[off] += _OFF_CROWN * p.cost_weight
     lat = Lattice(node_weights(limb_cost, epsilon=p.epsilon, noise=noise, rng=rng))
     d = build_dendrite(plan(lat, seeds.reshape(h, w), metric="cumulative"), limb_ends,
                        base=trunk, radius=p.tip_width / 2, iteration=1)
