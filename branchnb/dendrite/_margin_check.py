@@ -9,8 +9,9 @@ closest margin from the left or right edge (share of the width), tone r inside t
 4 px blur, the share of the picture's high-contrast quarter (local contrast over 1 % of the
 long side) inside the crown and the crown's area. Pictures: skimage's coffee, chelsea, the
 astronaut, the rocket, the camera man, coins, immunohistochemistry, the horse silhouette, the
-Hubble deep field, and procedural ones (``edge_towers``: dark towers by the frame's sides,
-``face``: a portrait). ``name@3:2`` crops a picture to that aspect (also 1:1, 2:3). Not a
+Hubble deep field, and procedural ones (:func:`blob_face`, :func:`tall`, :func:`landscape`,
+a portrait ``_pareidolia_sweep.face``, :func:`low_wide`, :func:`edge_towers`: dark towers by
+the frame's sides). ``name@3:2`` crops a picture to that aspect (also 1:1, 2:3). Not a
 test.
 """
 
@@ -22,7 +23,7 @@ import numpy as np
 from scipy import ndimage
 
 NAMES = ("coffee", "chelsea", "astronaut", "rocket", "camera", "coins", "immunohistochemistry",
-         "horse", "hubble_deep_field", "edge_towers", "face")
+         "horse", "hubble_deep_field", "blob_face", "tall", "landscape", "face", "low_wide", "edge_towers")
 
 
 def edge_towers(n: int = 300, aspect: float = 1.5, seed: int = 0) -> np.ndarray:
@@ -39,6 +40,62 @@ def edge_towers(n: int = 300, aspect: float = 1.5, seed: int = 0) -> np.ndarray:
     return np.repeat(np.clip(lum, 0, 1)[..., None], 3, axis=2).astype(np.float32)
 
 
+def _grey(img: np.ndarray, n: int, rng, noise: float = 0.02, blur: float = 0.003) -> np.ndarray:
+    img = ndimage.gaussian_filter(img, blur * n) + noise * rng.standard_normal(img.shape)
+    return np.repeat(np.clip(img, 0, 1)[..., None], 3, axis=2).astype(np.float32)
+
+
+def blob_face(n: int = 400, seed: int = 0) -> np.ndarray:
+    """A face-like blob layout filling a square frame: two dark eyes and a mouth."""
+    rng = np.random.default_rng(seed)
+    yy, xx = np.mgrid[0:n, 0:n] / n
+    img = 0.75 - 0.1 * yy
+    for cx, cy, rx, ry in ((0.33, 0.38, 0.09, 0.07), (0.67, 0.38, 0.09, 0.07), (0.5, 0.72, 0.18, 0.05)):
+        cx += rng.uniform(-0.02, 0.02)
+        img = np.where(((xx - cx) / rx) ** 2 + ((yy - cy) / ry) ** 2 < 1, 0.1, img)
+    return _grey(img, n, rng, 0.03, 0.004)
+
+
+def tall(n: int = 400, seed: int = 0) -> np.ndarray:
+    """A tall narrow dark subject with a spire on a light ground (2:3)."""
+    rng = np.random.default_rng(seed)
+    yy, xx = np.mgrid[0:int(1.5 * n), 0:n] / n
+    img = 0.85 - 0.1 * yy / 1.5 + 0.02 * np.sin(xx * 40)
+    cx = 0.5 + rng.uniform(-0.04, 0.04)
+    body = (np.abs(xx - cx) < 0.07 * (1 - 0.3 * (yy - 0.2))) & (yy > 0.15) & (yy < 1.45)
+    img = np.where(body, 0.15 + 0.1 * np.sin(yy * 20), img)
+    img = np.where((np.abs(xx - cx) < 0.02) & (yy > 0.05) & (yy <= 0.15), 0.2, img)
+    return _grey(img, n, rng)
+
+
+def landscape(n: int = 400, seed: int = 0) -> np.ndarray:
+    """A wide landscape (2.2:1): sky, a hill line, dark tree clumps up to the sides."""
+    rng = np.random.default_rng(seed)
+    yy, xx = np.mgrid[0:int(n / 2.2), 0:n] / n
+    hill = 0.28 + 0.04 * np.sin(xx * 9 + rng.uniform(0, 6)) + 0.02 * np.sin(xx * 23)
+    img = np.where(yy > hill, 0.45 + 0.2 * (yy - hill), 0.85 - 0.3 * yy)
+    for x0 in rng.uniform(0.03, 0.97, 7):
+        img = np.where(np.hypot((xx - x0) / 0.035, (yy - hill + 0.05) / 0.06) < 1, 0.12, img)
+    return _grey(img, n, rng)
+
+
+def low_wide(n: int = 400, seed: int = 0) -> np.ndarray:
+    """A wide picture (3:2) whose subject sits low: a tall tower over dark shrubs."""
+    rng = np.random.default_rng(seed)
+    yy, xx = np.mgrid[0:int(n / 1.5), 0:n] / n
+    img = 0.8 - 0.15 * yy
+    cx = 0.5 + rng.uniform(-0.05, 0.05)
+    img = np.where((np.abs(xx - cx) < 0.03) & (yy > 0.12), 0.2, img)
+    for x0 in rng.uniform(0.05, 0.95, 9):
+        img = np.where(np.hypot((xx - x0) / 0.06, (yy - 0.6) / 0.05) < 1, 0.15 + 0.2 * rng.random(), img)
+    return _grey(np.where(yy > 0.62, 0.35, img), n, rng, 0.03)
+
+
+_PROCEDURAL = {"edge_towers": lambda s: edge_towers(400, 1.5, s), "blob_face": lambda s: blob_face(400, s),
+               "tall": lambda s: tall(400, s), "landscape": lambda s: landscape(400, s),
+               "low_wide": lambda s: low_wide(400, s)}
+
+
 def picture(spec: str, n: int, seed: int = 0) -> np.ndarray:
     """``name`` or ``name@aspect`` (``1:1``, ``3:2``, ``2:3``), long side ``n`` px."""
     import skimage.data as skd
@@ -47,8 +104,8 @@ def picture(spec: str, n: int, seed: int = 0) -> np.ndarray:
     from ._strike_sweep import fit
 
     name, _, aspect = spec.partition("@")
-    if name == "edge_towers":
-        img = edge_towers(400, 1.5, seed)
+    if name in _PROCEDURAL:
+        img = _PROCEDURAL[name](seed)
     elif name == "face":
         img = face(400, seed)
     else:
