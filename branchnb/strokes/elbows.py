@@ -41,6 +41,10 @@ _PEAK_RATIO = 2.5
 #: A bend spans the arc lengths round its peak turning at least this share of the peak's turn.
 _BEND_SPAN = 0.5
 
+#: The elbow mapped within this many windows of the target's bend counts as lying in it (0.25:
+#: the saguaro's arm moved to the trunk's other side lands 1.7 px past its bend at 400 px).
+_SPAN_SLACK = 0.25
+
 #: The pinned mapping may stretch or squeeze a stretch at most this many times more than the
 #: pair's mapping without the pin does.
 _MOST_STRETCH = 2.5
@@ -90,8 +94,9 @@ def elbow_pin(pair: StrokePair, window: float, mirror: bool = False):
     if that turns by over :data:`_BEND_TURN`. None when either has no such
     bend, the pin would leave the order of the pair's control points or
     stretch a stretch over :data:`_MOST_STRETCH` times more than the
-    mapping does, or the mapping already puts the elbow within the target's
-    bend (where that turns by at least :data:`_BEND_SPAN` of its peak turn:
+    mapping does, or the mapping already lays the source's bend within the
+    target's (where each turns by at least :data:`_BEND_SPAN` of its peak, give
+    or take :data:`_SPAN_SLACK` windows:
     an arm raised in a wide curve keeps the arc-length mapping; pinned to
     the bend's middle, its upright started early, a step in the outer rim).
 
@@ -136,10 +141,12 @@ def elbow_pin(pair: StrokePair, window: float, mirror: bool = False):
         return None
     a, b = src[0], dst[0]
     ctl = pair.control
-    if dst[2] <= float(np.interp(a, ctl[:, 0], ctl[:, 1])) <= dst[3]:
-        # the mapping already puts the elbow in the target's bend: a bend drawn wider than the
-        # source's (an arm raised in a curve) keeps it; pinned to the bend's middle, the upright
-        # beyond the elbow started early (a step in the outer rim, 800 px raised arm)
+    lo, hi = np.interp([src[2], src[3]], ctl[:, 0], ctl[:, 1])
+    slack = _SPAN_SLACK * window
+    if lo >= dst[2] - slack and hi <= dst[3] + slack:
+        # the mapping already lays the whole elbow within the target's bend: a bend drawn wider
+        # than the source's (an arm raised in a curve) keeps it; pinned to the bend's middle, the
+        # upright beyond the elbow started early (a step in the outer rim, 800 px raised arm)
         return None
     j = int(np.searchsorted(ctl[:, 0], a))
     if not (0 < j < len(ctl)) or not (ctl[j - 1, 1] < b < ctl[j, 1]):
