@@ -12,7 +12,7 @@ target's own bend was drawn with straight patches (kinks on both sides).
 target's sharpest bend the same way, so the elbow's piece is drawn where
 the target turns.
 
-Measured on the saguaro of issue 25 (``/tmp/strokes47/measure.py``, arms
+Measured on a saguaro cactus (the test's, arms
 raised, drooped, mirrored and straightened, 150 / 400 / 800 px): see
 :func:`elbow_pin` for the figures.
 """
@@ -101,7 +101,7 @@ def elbow_pin(pair: StrokePair, window: float, mirror: bool = False):
     the bend's middle, its upright started early, a step in the outer rim).
 
     Beyond the paper. On the saguaro of issue 25 (both arms re-stroked, seeds
-    0 and 1; ``/tmp/strokes47/measure.py``) the right arm raised and longer
+    0 and 1; rim bumps and distance as in the test) the right arm raised and longer
     had its upper rim ragged where the source's elbow landed past the
     target's bend (a curl of outline, bumps): with the pin the rim's largest
     distance from the cactus drawn along the target strokes went 5.7 -> 3.0 px
