@@ -269,6 +269,19 @@ _OVER_COLOUR = 0.2
 _OVER_INKED = 0.1
 
 
+#: :func:`_parts_over`: a part more than this many times the area of the stroke's own piece is the
+#: rest of the object (the rope_loop sample's loop beside a stroked stretch of it: 110k px against
+#: the piece's 18k), not a part lying over the stroke; taken as one, the rope's stretch was refilled
+#: from farther along and its strands came out 1.4 times as long (notebook 05's sampling figure).
+_OVER_MOST_AREA = 2.0
+
+
+def _piece_area(index, k: int) -> float:
+    """Area (px) of stroke ``k``'s own piece: its length times twice its typical half width."""
+    st = index.strokes[k]
+    return float(st.length * 2.0 * np.median(index.edge_width(k, np.linspace(0.0, st.length, 16))))
+
+
 def _parts_over(index, tubes: dict, keys: list, cuts: list, joined: list, window: float = 3.0) -> None:
     """Give every part lying over the stroke it hangs from the pixels of its that the
     stroke's tube claimed (``Part.over``; ``Part.mask`` and ``index.part_mask`` grow by them).
@@ -297,7 +310,8 @@ def _parts_over(index, tubes: dict, keys: list, cuts: list, joined: list, window
     h, w = index.shape
     by_key: dict = {}
     for pi, part in enumerate(index.parts):
-        if part.contact and not part.at_end and not part.body and part.tip is None:
+        if part.contact and not part.at_end and not part.body and part.tip is None \
+                and part.area <= _OVER_MOST_AREA * _piece_area(index, part.stroke):
             by_key.setdefault((keys[part.stroke], cuts[part.stroke]), []).append(pi)
     if not by_key:
         return
