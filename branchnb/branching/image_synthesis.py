@@ -537,7 +537,8 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
                      .reshape(H, W, -1))
     out = _synthesize_fragments(ctx, pm_t, targets, (H, W), lib_b, lib_f, free_start, free_end, free_t,
                                 cached["vec_cache"], labels_t, src_labels, use_poisson, rng, report,
-                                frag_share, light)
+                                frag_share, light,
+                                neutral_lines=None if line_margin is None else pm_t.core(1.0, line_margin))
     timings["fragments"] = time.perf_counter() - t0
     if cached.get("patchwork", 0.0) and p.completion and not flat:
         # a patchwork ground (beyond the paper, issue 23): a fragment's disk carried its own field's
