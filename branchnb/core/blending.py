@@ -202,6 +202,8 @@ def compose_piece(canvas: np.ndarray, covered: np.ndarray, piece: np.ndarray, va
     for name, w in (("anchor_weight", anchor_weight), ("screen", screen)):
         if not (np.isfinite(w) and 0 <= w <= 1e12):
             raise ValueError(f"{name} must be finite and in [0, 1e12], got {w}")
+    if neutral_canvas is not None and np.shape(neutral_canvas) != np.shape(valid):
+        raise ValueError(f"neutral_canvas must have valid's shape {np.shape(valid)}, got {np.shape(neutral_canvas)}")
     clip = _clip_window(origin, valid.shape, covered.shape)
     if clip is None:
         return None
