@@ -80,6 +80,31 @@ def tip_stray(gray: np.ndarray, s, ink: float, ground: float) -> np.ndarray:
     return np.array(out) if out else np.zeros(1)
 
 
+def specks(out: np.ndarray, ex: np.ndarray) -> int:
+    """Blobs of ``out`` (3 x 3 mean) brighter or darker than 99.9 % of ``ex`` by 0.02 (grey images)."""
+    hi, lo = np.percentile(cv2.blur(ex, (3, 3)), [99.9, 0.1])
+    sm = cv2.blur(out, (3, 3))
+    return cv2.connectedComponents(((sm > hi + 0.02) | (sm < lo - 0.02)).astype(np.uint8))[0] - 1
+
+
+def twig_contrast(gray: np.ndarray, s, ink: float, ground: float, hubs) -> float:
+    """10th percentile of the thin branches' median centre-line contrast (see the module docstring)."""
+    H, W = gray.shape
+    out = []
+    for b in s.branches:
+        q, r = _resample(b)
+        q, r = q[3:-3], r[3:-3]
+        if len(q) < 2 or np.median(r) >= 2.0:
+            continue
+        ok = (q[:, 0] > 2) & (q[:, 1] > 2) & (q[:, 0] < W - 3) & (q[:, 1] < H - 3)
+        for hx, hy, hr in hubs:
+            ok &= np.hypot(q[:, 0] - hx, q[:, 1] - hy) > 1.5 * hr
+        if ok.sum() >= 4:
+            v = ndi.map_coordinates(gray, [q[ok, 1], q[ok, 0]], order=1)
+            out.append(float(np.median((v - ground) / (ink - ground))))
+    return float(np.percentile(out, 10)) if out else float("nan")
+
+
 def case(kind: str, size: int, seed: int, png: str | None = None) -> str:
     from . import extract_structure, fit_model, synthesize_image, synthesize_structure
 
@@ -101,7 +126,10 @@ def case(kind: str, size: int, seed: int, png: str | None = None) -> str:
     share = lambda j: float((j > T).mean()) if len(j) else 0.0  # noqa: E731
     return (f"{kind:13s} {size:5d} s{seed} T {T:.3f} seam {share(je):.3f}/{share(jo):.3f} "
             f"tip {np.median(te):.2f}/{np.median(to):.2f} "
-            f"tip90 {np.percentile(te, 90):.2f}/{np.percentile(to, 90):.2f}")
+            f"tip90 {np.percentile(te, 90):.2f}/{np.percentile(to, 90):.2f} "
+            f"speck {specks(g, g)}/{specks(gi, g)} "
+            f"twig {twig_contrast(g, s, ink, ground, list(getattr(s, 'hubs', None) or [])):.2f}/"
+            f"{twig_contrast(gi, res.structure, ink, ground, list(getattr(res.structure, 'hubs', None) or [])):.2f}")
 
 
 def main(argv=None) -> None:
