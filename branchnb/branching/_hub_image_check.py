@@ -16,6 +16,21 @@ branching116 (main -> now, the ten cases): seam 0.08-0.20 -> 0.00-0.02 on the ei
 0.005-0.026; fragments from the example's hub disc, :func:`.radial._off_hubs`); tip median 0.20-1.13 ->
 0.09-0.25, 90th percentile 0.57-2.47 -> 0.19-1.91 (example 0.13-0.90 / 0.27-2.16: its traced tips stop
 short of the drawn ones; :data:`.gap_completion.HUB_LINE_MARGIN`).
+
+Also (branching119):
+
+- ``speck``: blobs of the image (3 x 3 mean) brighter or darker than 99.9 % of the example's by 0.02
+  (white sparkles at tips and junctions), example / synthesized;
+- ``twig``: over the branches of median radius < 2 px, the 10th percentile of their median centre-line
+  contrast (1: the example's line colour; 1.5 hub radii from a hub), example / synthesized.
+
+branching119 (main -> now): speck neuron_dark 384 s1 14 -> 4, neuron_dark 512 s0 6 -> 2, neuron_dark
+768 s2 34 -> 13, coral 384 s1 4 -> 1, coral 512 s2 6 -> 2, coral_dark 512 s1 14 -> 4, neuron 256 s2
+4 -> 0 (example 0 on all), crack_bright 384 s0 20 -> 15 (example 1); twig neuron_dark 384 s1 0.49 ->
+0.53 (example 0.74), others within 0.03; tip 90th percentile neuron_dark 384 s1 0.75 -> 0.50, coral
+384 s1 1.91 -> 1.77; seam within 0.003, neuron_dark 384 s1 0.006 -> 0.009 (example 0.019). The
+fragments' correction no longer takes its boundary from the edges of older lines that the fragment
+has as ground (:data:`.gap_completion.HUB_SEAM_MISMATCH`).
 """
 # ruff: noqa: E702
 from __future__ import annotations
