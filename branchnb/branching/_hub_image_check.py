@@ -16,6 +16,21 @@ branching116 (main -> now, the ten cases): seam 0.08-0.20 -> 0.00-0.02 on the ei
 0.005-0.026; fragments from the example's hub disc, :func:`.radial._off_hubs`); tip median 0.20-1.13 ->
 0.09-0.25, 90th percentile 0.57-2.47 -> 0.19-1.91 (example 0.13-0.90 / 0.27-2.16: its traced tips stop
 short of the drawn ones; :data:`.gap_completion.HUB_LINE_MARGIN`).
+
+Also (branching119):
+
+- ``speck``: blobs of the image (3 x 3 mean) brighter or darker than 99.9 % of the example's by 0.02
+  (white sparkles at tips and junctions), example / synthesized;
+- ``twig``: over the branches of median radius < 2 px, the 10th percentile of their median centre-line
+  contrast (1: the example's line colour; 1.5 hub radii from a hub), example / synthesized.
+
+branching119 (main -> now): speck neuron_dark 384 s1 14 -> 4, neuron_dark 512 s0 6 -> 2, neuron_dark
+768 s2 34 -> 13, coral 384 s1 4 -> 1, coral 512 s2 6 -> 2, coral_dark 512 s1 14 -> 4, neuron 256 s2
+4 -> 0 (example 0 on all), crack_bright 384 s0 20 -> 15 (example 1); twig neuron_dark 384 s1 0.49 ->
+0.53 (example 0.74), others within 0.03; tip 90th percentile neuron_dark 384 s1 0.75 -> 0.50, coral
+384 s1 1.91 -> 1.77; seam within 0.003, neuron_dark 384 s1 0.006 -> 0.009 (example 0.019). The
+fragments' correction no longer takes its boundary from the edges of older lines that the fragment
+has as ground (:data:`.gap_completion.HUB_SEAM_MISMATCH`).
 """
 # ruff: noqa: E702
 from __future__ import annotations
@@ -80,6 +95,31 @@ def tip_stray(gray: np.ndarray, s, ink: float, ground: float) -> np.ndarray:
     return np.array(out) if out else np.zeros(1)
 
 
+def specks(out: np.ndarray, ex: np.ndarray) -> int:
+    """Blobs of ``out`` (3 x 3 mean) brighter or darker than 99.9 % of ``ex`` by 0.02 (grey images)."""
+    hi, lo = np.percentile(cv2.blur(ex, (3, 3)), [99.9, 0.1])
+    sm = cv2.blur(out, (3, 3))
+    return cv2.connectedComponents(((sm > hi + 0.02) | (sm < lo - 0.02)).astype(np.uint8))[0] - 1
+
+
+def twig_contrast(gray: np.ndarray, s, ink: float, ground: float, hubs) -> float:
+    """10th percentile of the thin branches' median centre-line contrast (see the module docstring)."""
+    H, W = gray.shape
+    out = []
+    for b in s.branches:
+        q, r = _resample(b)
+        q, r = q[3:-3], r[3:-3]
+        if len(q) < 2 or np.median(r) >= 2.0:
+            continue
+        ok = (q[:, 0] > 2) & (q[:, 1] > 2) & (q[:, 0] < W - 3) & (q[:, 1] < H - 3)
+        for hx, hy, hr in hubs:
+            ok &= np.hypot(q[:, 0] - hx, q[:, 1] - hy) > 1.5 * hr
+        if ok.sum() >= 4:
+            v = ndi.map_coordinates(gray, [q[ok, 1], q[ok, 0]], order=1)
+            out.append(float(np.median((v - ground) / (ink - ground))))
+    return float(np.percentile(out, 10)) if out else float("nan")
+
+
 def case(kind: str, size: int, seed: int, png: str | None = None) -> str:
     from . import extract_structure, fit_model, synthesize_image, synthesize_structure
 
@@ -101,7 +141,10 @@ def case(kind: str, size: int, seed: int, png: str | None = None) -> str:
     share = lambda j: float((j > T).mean()) if len(j) else 0.0  # noqa: E731
     return (f"{kind:13s} {size:5d} s{seed} T {T:.3f} seam {share(je):.3f}/{share(jo):.3f} "
             f"tip {np.median(te):.2f}/{np.median(to):.2f} "
-            f"tip90 {np.percentile(te, 90):.2f}/{np.percentile(to, 90):.2f}")
+            f"tip90 {np.percentile(te, 90):.2f}/{np.percentile(to, 90):.2f} "
+            f"speck {specks(g, g)}/{specks(gi, g)} "
+            f"twig {twig_contrast(g, s, ink, ground, list(getattr(s, 'hubs', None) or [])):.2f}/"
+            f"{twig_contrast(gi, res.structure, ink, ground, list(getattr(res.structure, 'hubs', None) or [])):.2f}")
 
 
 def main(argv=None) -> None:

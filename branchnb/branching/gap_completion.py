@@ -44,6 +44,11 @@ PATCHWORK_PATCH = 0.5
 #: :mod:`._hub_image_check`, ten hub examples 256-768 px): 0.20-1.13 -> 0.09-0.25 (example 0.13-0.90;
 #: :func:`.radial._off_hubs` alone left about 0.5 on coral and neuron_dark 384 s1)
 HUB_LINE_MARGIN = 3.0
+#: hub examples: within ``HUB_LINE_MARGIN`` of a line, a canvas pixel differing from a new fragment by
+#: more than this share of the example's line contrast (in a channel) is no boundary of the fragment's
+#: gradient-domain correction (a line's edge against the other's ground; branching119, measured with
+#: ``_hub_image_check`` on coral / neuron / neuron_dark 256-512 px)
+HUB_SEAM_MISMATCH = 0.3
 
 
 def _coarse_blur(img: np.ndarray, weight: np.ndarray, sigma: float, levels: int = 0) -> np.ndarray:
