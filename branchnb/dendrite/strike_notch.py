@@ -25,7 +25,7 @@ inside the piece, when
 A ring of round parts round a hole (:func:`split_round_hole`) is cut from every notch of its
 outline to the corner of the hole it faces (strokes41).
 
-Measured (``/tmp`` scripts of strokes41; parts == letters with both shares > 0.9): 17 words
+Measured (session scripts of strokes41, not kept; parts == letters with both shares > 0.9): 17 words
 (HAM MOON FERN GO MAPLE WAVE TREES NEW MAX WIND ZOOM KNOW M W N K A) in Hershey duplex at
 256 / 512 / 768 px and simplex and triplex at 256 / 768 px, 119 cases, 84 -> 92 exact and
 none worse: "MOON" (6 parts, 0.53-0.55 -> 4 parts, 0.99) and "ZOOM" at 512 / 768 px. Rings of
