@@ -40,6 +40,7 @@ from ..core.render import draw_polylines
 from ..core.validate import Array, Image, Real, checked
 from .exemplar import signed_area
 from .morph import fill_contour
+from .pin_corners import corner_sides
 
 __all__ = [
     "ContourParams",
@@ -437,7 +438,7 @@ def pin_points(contour, alpha, trunk_mask=None, *, radius: float = 0.015) -> Pin
             sides = retry
     if sides is None:
         return none
-    jr, jl = sides
+    jr, jl = corner_sides(c, ib, sides, height)
     ir, il = (ib + jr) % k, (ib - jl) % k
     return PinPoints(b.copy(), c[ir].copy(), c[il].copy(), ib, ir, il, True)
 
