@@ -111,3 +111,4 @@ def test_concave_turns_read_an_l_corner():
     assert np.argmax(t) in (np.arange(corner - 3, corner + 4) % len(c))
     # the five convex corners turn the other way
     assert (t < -60).sum() >= 5 and t[np.abs(c[:, 1] - 10) < 0.5].max() < 20
+
