@@ -40,6 +40,7 @@ from ..core.render import draw_polylines
 from ..core.validate import Array, Image, Real, checked
 from .exemplar import signed_area
 from .morph import fill_contour
+from .pin_corners import corner_sides
 
 __all__ = [
     "ContourParams",
@@ -350,7 +351,7 @@ def _bottom_middle(c: np.ndarray, opaque: np.ndarray, trunk: np.ndarray) -> int:
     return int(band[np.argmin(np.hypot(c[band, 0] - x_mid, c[band, 1] - ymax))])
 
 
-def pin_points(contour, alpha, trunk_mask=None, *, radius: float = 0.015) -> PinPoints:
+def pin_points(contour, alpha, trunk_mask=None, *, radius: float = 0.015, corners: bool = True) -> PinPoints:
     """Find the pin points ``B``, ``R``, ``L`` on a tree contour.
 
     Parameters
@@ -367,6 +368,11 @@ def pin_points(contour, alpha, trunk_mask=None, *, radius: float = 0.015) -> Pin
     radius : float
         Window radius (fraction of the image size) for labelling contour
         points as trunk or crown.
+    corners : bool
+        Move ``R`` and ``L`` back to the concave corner where a crown
+        narrowing onto its trunk meets it
+        (:func:`~branchnb.trees.pin_corners.corner_sides`, beyond the paper).
+        Off for pixel art, whose stair steps are corners of their own.
 
     Returns
     -------
@@ -437,7 +443,7 @@ def pin_points(contour, alpha, trunk_mask=None, *, radius: float = 0.015) -> Pin
             sides = retry
     if sides is None:
         return none
-    jr, jl = sides
+    jr, jl = corner_sides(c, ib, sides, height) if corners else sides
     ir, il = (ib + jr) % k, (ib - jl) % k
     return PinPoints(b.copy(), c[ir].copy(), c[il].copy(), ib, ir, il, True)
 
@@ -772,8 +778,8 @@ class TreeContour:
 
 
 @checked()
-def tree_contour(contour, alpha, trunk_mask=None, params: ContourParams | None = None,
-                 **overrides) -> TreeContour:
+def tree_contour(contour, alpha, trunk_mask=None, params: ContourParams | None = None, *,
+                 corners: bool = True, **overrides) -> TreeContour:
     """All contour steps for one tree: pin points, ``C_r`` and ``C_s``.
 
     Parameters
@@ -787,6 +793,8 @@ def tree_contour(contour, alpha, trunk_mask=None, params: ContourParams | None =
     params : ContourParams, optional
         ``N``, crown share, ``M``, dilation and trunk window; None uses the
         paper's defaults (2000 / 1600 / 20 / 8).
+    corners : bool
+        See :func:`pin_points` (off for pixel art).
     **overrides
         Fields of ``params`` to override (e.g. ``m_points=30``).
 
@@ -818,7 +826,7 @@ def tree_contour(contour, alpha, trunk_mask=None, params: ContourParams | None =
     c = as_points(contour, name="contour", min_points=3)
     if signed_area(c) > 0:
         c = c[::-1].copy()
-    pins = pin_points(c, opaque, trunk_mask, radius=p.trunk_radius)
+    pins = pin_points(c, opaque, trunk_mask, radius=p.trunk_radius, corners=corners)
     cr = resample_pinned(c, pins, p.n_points, p.n_crown)
     cs = simplify_contour(cr, m_points=p.m_points, dilation=p.dilation, n_points_crown=p.n_crown)
     return TreeContour(c, pins, cr, cs, p, opaque.shape)

@@ -154,7 +154,8 @@ class Exemplar:
             If ``trunk`` is not an (S, S) mask.
         """
         t = as_mask(trunk, shape=self.alpha.shape, name="trunk") & self.alpha
-        tc = tree_contour(self.contours.tree, self.alpha, t, self.contour.params)
+        tc = tree_contour(self.contours.tree, self.alpha, t, self.contour.params,
+                          corners=self.normalized.pixel_art is None)
         return Exemplar(self.name, self.image, t, self.contours, tc, self.normalized, source,
                         self.ground)
 
@@ -344,5 +345,5 @@ def process_exemplar(image, name: str = "", *, trunk_mask=None, trunk: str = "au
     else:
         tmask, source = norm.warp_mask(trunk_mask) & norm.alpha, "mask"
     contours = extract_contours(norm.alpha)
-    tc = tree_contour(contours.tree, norm.alpha, tmask, cp)
+    tc = tree_contour(contours.tree, norm.alpha, tmask, cp, corners=norm.pixel_art is None)
     return Exemplar(str(name), norm.image, tmask, contours, tc, norm, source, cut)
