@@ -98,5 +98,5 @@ def test_mixes_keep_the_crowns_line_across_the_trunk(size):
     lined = [_line_on_trunk_top(lib.variation(rng=s).image) for s in range(8)]
     # before: 0-2 of 8 mixes kept it (the line went with the outline's thinning). trees61: 4 -> 3
     # of 8 at 128 px (192: unchanged) since the tall crown's pins sit at its corner: 3 mixes lost
-    # the crown-coloured neck they had, one of them (rng 5) with its line (/tmp/trees61/ttl_both.png)
+    # the crown-coloured neck they had, one of them (rng 5) with its line
     assert sum(lined) >= 3, lined

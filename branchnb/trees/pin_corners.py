@@ -24,7 +24,7 @@ from scipy.ndimage import gaussian_filter1d
 __all__ = ["concave_turns", "corner_sides"]
 
 #: Smallest concave turn (degrees) taken as the crown/trunk junction. Measured on 216 outlined and
-#: plain procedural trees (9 crown kinds, 96-384 px, /tmp/trees61/measure_pins.py): true junctions
+#: plain procedural trees (9 crown kinds, 96-384 px; trees61): true junctions
 #: turn 30-90 deg (a crown tapering onto the trunk ~35 deg); a bent or flaring trunk's side turns
 #: under 12 deg over the window, pixel stairs under ~15 deg.
 CORNER_TURN = 25.0
