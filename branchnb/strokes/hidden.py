@@ -19,6 +19,7 @@ from scipy import ndimage as ndi
 
 from ..core.distance import edt as _edt
 from ..core.graphcut import gradient_magnitude
+from .attachment import _own_area
 from .outline import outline_style
 from .tubes import _tube_margin
 
@@ -276,12 +277,6 @@ _OVER_INKED = 0.1
 _OVER_MOST_AREA = 2.0
 
 
-def _piece_area(index, k: int) -> float:
-    """Area (px) of stroke ``k``'s own piece: its length times twice its typical half width."""
-    st = index.strokes[k]
-    return float(st.length * 2.0 * np.median(index.edge_width(k, np.linspace(0.0, st.length, 16))))
-
-
 def _parts_over(index, tubes: dict, keys: list, cuts: list, joined: list, window: float = 3.0) -> None:
     """Give every part lying over the stroke it hangs from the pixels of its that the
     stroke's tube claimed (``Part.over``; ``Part.mask`` and ``index.part_mask`` grow by them).
@@ -311,7 +306,7 @@ def _parts_over(index, tubes: dict, keys: list, cuts: list, joined: list, window
     by_key: dict = {}
     for pi, part in enumerate(index.parts):
         if part.contact and not part.at_end and not part.body and part.tip is None \
-                and part.area <= _OVER_MOST_AREA * _piece_area(index, part.stroke):
+                and part.area <= _OVER_MOST_AREA * _own_area(index, part.stroke):
             by_key.setdefault((keys[part.stroke], cuts[part.stroke]), []).append(pi)
     if not by_key:
         return
