@@ -508,16 +508,22 @@ def _between_fills(excess: np.ndarray, nearest_fill: np.ndarray, width: int) -> 
     outlined flat-colour trees). A stroke along the rim has one fill beside it, a line across
     a part has a different fill on each side: the nearest fill's colour changes across it.
     """
-    if not excess.any():
-        return excess
+    out = np.zeros_like(excess)
+    rows, cols = np.nonzero(excess)
+    if not len(rows):
+        return out
     k = 2 * int(width) + 1
-    spread = np.zeros(excess.shape, np.float32)
+    # only round the excess (a thin band along the rim): the filters over the whole image were most of the cost
+    box = (slice(max(rows.min() - k, 0), rows.max() + k + 1), slice(max(cols.min() - k, 0), cols.max() + k + 1))
+    ex = excess[box]
+    spread = np.zeros(ex.shape, np.float32)
     for ch in range(3):
-        col = nearest_fill[..., ch].astype(np.float32)
-        hi = ndi.maximum_filter(np.where(excess, col, -np.inf), size=k)
-        lo = ndi.minimum_filter(np.where(excess, col, np.inf), size=k)
-        spread = np.maximum(spread, np.where(excess, hi - lo, 0.0))
-    return excess & (spread >= BETWEEN_FILLS)
+        col = nearest_fill[box][..., ch].astype(np.float32)
+        hi = ndi.maximum_filter(np.where(ex, col, -np.inf), size=k)
+        lo = ndi.minimum_filter(np.where(ex, col, np.inf), size=k)
+        spread = np.maximum(spread, np.where(ex, hi - lo, 0.0))
+    out[box] = ex & (spread >= BETWEEN_FILLS)
+    return out
 
 
 #: :func:`_drop_excess`: a dark fill (a dark trunk) is told from the ink only when its colour is at
