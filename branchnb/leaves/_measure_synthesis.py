@@ -171,7 +171,8 @@ def ghost_ratio(img, bg_veins, donor, spots=None):
     leaf; ``donor``: the vein donor's true veins and pasted layer carried
     the same way; ``spots``: spots to leave out (or None). Pixels of
     ``bg_veins`` farther than 2 px from ``donor`` and ``spots``, inside the
-    lamina (:func:`branchnb.leaves.registration.split_petiole`) eroded by 3 px, over plain blade (4 px from every vein and spot)
+    lamina (:func:`branchnb.leaves.registration.split_petiole`) eroded by
+    3 px, over plain blade (4 px from every vein and spot)
     weighted to the same distances from ``donor``
     (:func:`branchnb.leaves._measure.vein_system_scores`' ``bg_own``).
     Returns ``(ratio, pixels)``; ratio NaN when no pixel is left.
