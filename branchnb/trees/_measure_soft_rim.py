@@ -8,13 +8,16 @@ random mixes each, with and without the soft rim. Per library it prints
 
 * ``soft``: share of the rim pixels (either side of the opaque set's edge) with 0.02 < alpha < 0.98,
   sources' (their soft alpha) | mixes without | with the soft rim;
-* ``stair``: mean |alpha - coverage| on the rim, coverage of the mixed contour polygon grown by
-  half a pixel (it runs through border pixel centres) at 8 x 8 samples per pixel, on the rim pixels
-  whose side of 0.5 the polygon agrees with (elsewhere the silhouette left the contour: trunks,
-  tips), without | with;
+* ``stair``: the staircase against a known answer: each source's binary working silhouette given
+  the soft rim (:func:`~branchnb.trees.rim_alpha.soft_rim` with its own ramp) against its own
+  soft alpha, mean |difference| on the rim, binary -> soft rim (the mixed contour polygon is no
+  such answer: it runs through the border pixel centres of binary silhouettes, and the sources'
+  own soft alpha scored worse on it than their binary cut);
 * ``fringe``: worst mean luminance step of the rim's composite over white and over black against
-  ``alpha x colour 1 px inside + (1 - alpha) x backdrop`` (negative: darker);
-* ``same``: whether the opaque set and ``crossfade_fraction`` are identical with and without.
+  ``alpha x colour of the nearest opaque pixel + (1 - alpha) x backdrop`` (negative: darker), and
+  the same had the soft pixels outside kept their colour (black, a dark fringe);
+* ``opaque same``: mixes whose opaque set is identical with and without; ``crossfade``:
+  :func:`~branchnb.trees.quality.crossfade_fraction` of each mix without > with.
 """
 
 from __future__ import annotations
@@ -34,44 +37,40 @@ def _band(op):
     return (cv2.dilate(u, k) > 0) & ~(cv2.erode(u, k, borderType=cv2.BORDER_CONSTANT, borderValue=0) > 0)
 
 
-def contour_coverage(contour, shape, grow: float = 0.5, ss: int = 8) -> np.ndarray:
-    """Coverage (0-1) of each pixel by the polygon ``contour`` (x, y; pixel centres at integers)
-    grown by ``grow`` px, from ``ss`` x ``ss`` samples per pixel."""
-    h, w = shape
-    big = np.zeros((h * ss, w * ss), np.uint8)
-    pts = np.round((np.asarray(contour, np.float64) + 0.5) * ss * 16 - 0.5 * 16).astype(np.int32)
-    cv2.fillPoly(big, [pts.reshape(-1, 1, 2)], 1, lineType=cv2.LINE_8, shift=4)
-    r = int(round(grow * ss))
-    if r > 0:
-        big = cv2.dilate(big, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1)))
-    return cv2.resize(big.astype(np.float32), (w, h), interpolation=cv2.INTER_AREA)
-
-
 def soft_share(alpha, op) -> float:
     b = _band(op)
     a = np.asarray(alpha)[b]
     return float(((a > 0.02) & (a < 0.98)).mean()) if b.any() else 0.0
 
 
-def staircase(alpha, op, cov) -> float:
-    b = _band(op) & ((cov >= 0.5) == op)
-    return float(np.abs(alpha[b] - cov[b]).mean()) if b.any() else 0.0
+def staircase(exemplar) -> tuple[float, float]:
+    """Mean |alpha - soft alpha| on an exemplar's rim: binary cut, soft rim (hard sources: both
+    the binary cut)."""
+    from .rim_alpha import exemplar_rim_width, soft_rim
+
+    op = exemplar.image[..., 3] >= 0.5
+    sa = exemplar.normalized.soft_alpha
+    if sa is None:
+        return 0.0, 0.0
+    b = _band(op)
+    soft = soft_rim(exemplar.image, [exemplar_rim_width(exemplar)])[..., 3]
+    return float(np.abs(op[b] - sa[b]).mean()), float(np.abs(soft[b] - sa[b]).mean())
 
 
-def fringe(image) -> float:
+def fringe(image, keep=None) -> float:
+    """Worst mean luminance step over white / black of the soft rim against its nearest opaque
+    colour; ``keep``: RGB the soft pixels outside had before (their colour left as it was)."""
     a = image[..., 3]
     op = a >= 0.5
     soft = (a > 0.02) & (a < 0.98)
     if not soft.any():
         return 0.0
-    inner = ndi.binary_erosion(op, iterations=1)
-    if not inner.any():
-        inner = op
-    iy, ix = ndi.distance_transform_edt(~inner, return_distances=False, return_indices=True)
+    iy, ix = ndi.distance_transform_edt(~op, return_distances=False, return_indices=True)
     ref = image[..., :3][iy, ix]
+    rgb = image[..., :3] if keep is None else np.where(op[..., None], image[..., :3], keep)
     worst = 0.0
     for bg in (1.0, 0.0):
-        got = (image[..., :3] * a[..., None] + bg * (1 - a[..., None]))[soft] @ LUMA
+        got = (rgb * a[..., None] + bg * (1 - a[..., None]))[soft] @ LUMA
         want = (ref * a[..., None] + bg * (1 - a[..., None]))[soft] @ LUMA
         d = float((got - want).mean())
         worst = d if abs(d) > abs(worst) else worst
@@ -125,17 +124,17 @@ def measure(sizes=(96, 128, 256, 512), seeds: int = 3) -> dict:
                 v1 = make_variation(lib, rng=seed)
                 a0, a1 = v0.image[..., 3], v1.image[..., 3]
                 op = a0 >= 0.5
-                cov = contour_coverage(v1.resampled, op.shape)
-                same = bool((op == (a1 >= 0.5)).all()) and (
-                    crossfade_fraction(v0.image, srcs) == crossfade_fraction(v1.image, srcs))
-                rows.append((soft_share(a0, op), soft_share(a1, op), staircase(a0, op, cov),
-                             staircase(a1, op, cov), fringe(v1.image), same,
+                same = bool((op == (a1 >= 0.5)).all())
+                rows.append((soft_share(a0, op), soft_share(a1, op), fringe(v1.image),
+                             fringe(v1.image, v0.image[..., :3]), same,
                              crossfade_fraction(v0.image, srcs), crossfade_fraction(v1.image, srcs)))
             r = np.array(rows, float)
-            print(f"{size:4d} {name:11s} W {' '.join(f'{w:.2f}' for w in widths)} | soft {src_soft:.2f} | "
-                  f"{r[:, 0].mean():.2f} -> {r[:, 1].mean():.2f} | stair {r[:, 2].mean():.3f} -> {r[:, 3].mean():.3f}"
-                  f" | fringe {r[np.argmax(np.abs(r[:, 4])), 4]:+.4f} | same {int(r[:, 5].sum())}/{len(r)}"
-                  f" | crossfade {' '.join(f'{a:.4f}>{b:.4f}' for a, b in r[:, 6:8])}", flush=True)
+            st = np.array([staircase(e) for e in lib.exemplars]).mean(axis=0)
+            print(f"{size:4d} {name:10s} W {' '.join(f'{w:.2f}' for w in widths)} | soft {src_soft:.2f} | "
+                  f"{r[:, 0].mean():.2f} -> {r[:, 1].mean():.2f} | stair {st[0]:.3f} -> {st[1]:.3f}"
+                  f" | fringe {r[np.argmax(np.abs(r[:, 2])), 2]:+.4f} (kept {r[np.argmax(np.abs(r[:, 3])), 3]:+.3f})"
+                  f" | opaque same {int(r[:, 4].sum())}/{len(r)}"
+                  f" | crossfade {' '.join(f'{a:.4f}>{b:.4f}' for a, b in r[:, 5:7])}", flush=True)
             out[(size, name)] = r
     return out
 

@@ -21,9 +21,10 @@ same set, so every measure taken on it is unchanged):
   (no dark or light fringe over any backdrop).
 
 Hard-edged sources stay hard: pixel art (no soft alpha), aliased low-poly
-and hard-edged drawings (under :data:`SOFT_RIM_SHARE` of their rim pixels
-partial), like :func:`~branchnb.trees.flat_art._hard_edged` reads the
-source's alpha.
+crowns and hard-edged drawings (under :data:`SOFT_RIM_SHARE` of the rim
+pixels of the source's own alpha partial,
+:attr:`~branchnb.trees.exemplar.Normalized.rim_softness`; a smooth resize
+softens them at the working size).
 """
 
 from __future__ import annotations
@@ -198,12 +199,36 @@ def soft_rim(image, widths: Sequence[float], weights=None) -> np.ndarray:
 
 
 def exemplar_rim_width(exemplar) -> float:
-    """:func:`rim_width` of an exemplar (its soft alpha against its silhouette; cached on it)."""
+    """:func:`rim_width` of an exemplar (its soft alpha against its silhouette; cached on it).
+
+    Parameters
+    ----------
+    exemplar : Exemplar
+        A processed exemplar.
+
+    Returns
+    -------
+    float
+        0 for pixel art and for sources whose own rim had under
+        :data:`SOFT_RIM_SHARE` of partial pixels
+        (:attr:`~branchnb.trees.exemplar.Normalized.rim_softness`).
+
+    Examples
+    --------
+    >>> from branchnb.trees import TreeLibrary
+    >>> lib = TreeLibrary.from_data(["cartoon_tree"], size=96)
+    >>> 1.0 < exemplar_rim_width(lib.exemplars[0]) < 2.0
+    True
+    """
     cache = getattr(exemplar, "_cages", None)
     if cache is not None and "rim_width" in cache:
         return cache["rim_width"]
     n = exemplar.normalized
-    w = 0.0 if n.pixel_art is not None else rim_width(exemplar.image[..., 3] >= 0.5, n.soft_alpha)
+    # hard-edged sources (pixel art; aliased drawings and low-poly crowns, which a smooth resize
+    # softens at the working size) are judged on their own alpha
+    hard = n.pixel_art is not None or (getattr(n, "rim_softness", None) is not None
+                                       and n.rim_softness < SOFT_RIM_SHARE)
+    w = 0.0 if hard else rim_width(exemplar.image[..., 3] >= 0.5, n.soft_alpha)
     if cache is not None:
         cache["rim_width"] = w
     return w
