@@ -13,7 +13,7 @@ from branchnb.trees import variations
 from branchnb.trees._measure_rim import blob_tree
 from branchnb.trees._measure_soft_rim import _band, soft_share
 from branchnb.trees.drawn import drawn_tree
-from branchnb.trees.quality import crossfade_fraction
+from branchnb.trees.quality import crossfade_fraction, soft_alpha_fraction
 from branchnb.trees.rim_alpha import exemplar_rim_width, rim_width, soft_rim
 from branchnb.trees.variations import TreeLibrary, make_variation
 
@@ -59,8 +59,9 @@ def test_rim_is_anti_aliased(pairs):
         op = before.image[..., 3] >= 0.5
         assert soft_share(before.image[..., 3], op) == 0.0
         assert soft_share(after.image[..., 3], op) > 0.4           # sources 0.45 (measured)
-        # only the pixel either side of the edge changes
+        # only the pixel either side of the edge changes: a clean cut-out inside
         assert np.array_equal(before.image[..., 3][~_band(op)], after.image[..., 3][~_band(op)])
+        assert soft_alpha_fraction(after.image) == 0.0
 
 
 def test_no_fringe(pairs):

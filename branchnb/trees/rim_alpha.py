@@ -153,9 +153,10 @@ def soft_rim(image, widths: Sequence[float], weights=None) -> np.ndarray:
     Returns
     -------
     (H, W, 4) float32 ndarray
-        The edge's pixels with alpha ``0.5 + d / W`` (opaque ones in
-        [0.5, 1], transparent ones in [0, 0.5)); 1-px lines and spikes stay
-        opaque; soft pixels outside take the nearest opaque colour.
+        The edge's pixels with alpha ``0.5 + d / W``: opaque ones beside a
+        transparent one in [0.5, 1], transparent ones touching an opaque one
+        in [0, 0.5); 1-px lines and spikes stay opaque; soft pixels outside
+        take the nearest opaque colour.
 
     Examples
     --------
@@ -188,7 +189,10 @@ def soft_rim(image, widths: Sequence[float], weights=None) -> np.ndarray:
     ramp = 0.5 + edge_distance(op) / width
     out = img.copy()
     alpha = out[..., 3]
-    inner = band & op & ~thin
+    # opaque pixels only beside (not diagonal to) a transparent one: the silhouette's interior past
+    # its edge stays opaque, as quality.soft_alpha_fraction reads a clean cut-out
+    cross = np.array([[0, 1, 0], [1, 1, 1], [0, 1, 0]], np.uint8)
+    inner = op & ~(cv2.erode(u, cross, borderType=cv2.BORDER_CONSTANT, borderValue=0) > 0) & ~thin
     alpha[inner] = np.clip(ramp[inner], 0.5, 1.0)
     outer = band & ~op
     alpha[outer] = np.clip(ramp[outer], 0.0, 0.499)
