@@ -207,6 +207,12 @@ class Normalized:
         The source alpha the silhouette was taken at: 0.5 (the paper's
         threshold) unless the source is translucent (beyond the paper,
         :func:`~branchnb.trees.translucent.translucent_level`).
+    rim_softness : float or None
+        Share of the source's own rim pixels (either side of its thresholded
+        edge, before resampling) with partial alpha (0.05-0.95): about 0
+        for hard-edged drawings, which a smooth resize softens at the
+        working size (the mixes' rims stay hard for them,
+        :mod:`~branchnb.trees.rim_alpha`); None when not measured.
 
     Examples
     --------
@@ -226,6 +232,7 @@ class Normalized:
     pixel_art: object = None
     soft_alpha: np.ndarray | None = None
     alpha_level: float = 0.5
+    rim_softness: float | None = None
 
     @property
     def alpha(self) -> np.ndarray:
@@ -509,8 +516,11 @@ def normalize_exemplar(image, params: ExemplarParams | None = None, *, defringe:
         soft = np.zeros((s, s), np.float32)
         soft[oy:oy + nh, ox:ox + nw] = np.clip(cv2.resize(kept.astype(np.float32), (nw, nh), interpolation=interp),
                                                0.0, 1.0)
+    op = opaque[y0:y1, x0:x1]
+    rim = ndi.binary_dilation(op) & ~ndi.binary_erosion(op, border_value=0)
+    rim_soft = float(((kept[rim] > 0.05) & (kept[rim] < 0.95)).mean()) if rim.any() else 0.0
     return Normalized(out, (x0, y0, x1, y1), float(nw / bw), (float(ox), float(oy)), (h, w),
-                      dropped, art, soft)
+                      dropped, art, soft, rim_softness=rim_soft)
 
 
 #: Defringing: a soft-edged opaque pixel (alpha below FRINGE_ALPHA) is background matted in when its

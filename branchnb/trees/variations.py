@@ -76,6 +76,7 @@ from .histogram_transfer import _remember_parts, histogram_transfer
 from .morph import check_weights, combine_shapes, dirichlet_weights, fill_contour
 from .mvc import transfer_colour
 from .processing import GROUND_METHODS, TRUNK_METHODS, Exemplar, exemplar_trunk, process_exemplar
+from .rim_alpha import exemplar_rim_width, soft_rim
 from .sticker import _sticker_mix
 from .translucent import SLIT_CROWN, _feather_width, _halo_envelope, _trunk_slit
 
@@ -477,6 +478,13 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
     has its trunk's sides redrawn straight where no crown covers them
     (:func:`~branchnb.trees.trunk_lines.straighten_trunk`).
 
+    Beyond the paper: when every mixed exemplar's source was anti-aliased (not pixel art, not
+    hard-edged), the mix's rim is anti-aliased too, its opaque set (alpha >= 0.5) unchanged
+    (:func:`~branchnb.trees.rim_alpha.soft_rim`): the edge's pixels take alpha from their
+    sub-pixel distance to the silhouette's smoothed edge, on the sources' own ramp, and soft
+    pixels outside the nearest opaque colour. ``python -m branchnb.trees._measure_soft_rim``
+    measures it.
+
     Examples
     --------
     >>> from branchnb.trees import TreeLibrary
@@ -633,6 +641,9 @@ def make_variation(library, weights=None, params: VariationParams | None = None,
                 soft = carried[0].copy()
                 soft[gap], carried[0] = soft[iy[gap], ix[gap]], soft
             parts[gap], sources[gap] = 1, sources[iy[gap], ix[gap]]
+    if not bare and not clear and not pixel:
+        # anti-aliased rim (beyond the paper, rim_alpha.py): the opaque set stays as it is
+        image = soft_rim(image, [exemplar_rim_width(exemplars[i]) for i in used], w[used] + cw[used])
     sources = np.where(image[..., 3] >= 0.5, sources, -1)
     _remember_parts(image, parts)
     if not bare and clear:
