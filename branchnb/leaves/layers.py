@@ -62,6 +62,7 @@ from .layers_lines import (  # noqa: F401
     _ON_LINE,
     _ON_LINE_ABOVE,
     _ON_LINE_KEEP,
+    _along_lines,
     _off_lines,
     _on_line_pins,
 )
@@ -83,6 +84,8 @@ __all__ = ["Scribble", "Layer", "LayerSet", "SnapParams", "TrainingLayers",
 
 #: A thin line layer's scribbled pixels between its lines left unpinned (:func:`_on_line_pins`).
 _ON_LINE_PINS = True
+#: Thin line layers grow along their fainter lines (:func:`branchnb.leaves.layers_lines._along_lines`).
+_ALONG = True
 
 
 @dataclass
@@ -392,6 +395,20 @@ def grow_layers(image, blade, layer_set: LayerSet, params: SnapParams | None = N
             conf = np.abs(e_fg - e_bg) / np.maximum(area, 1.0)
             mask = _refine(mask, feat, blade, fg_px, others, fg_c, bg_c, prior * conf[sp],
                            params.smoothness, line, params.line_weight, distances=(d_f_blade, d_b_blade))
+        if line is not None and _ALONG:
+            layers_px = np.zeros_like(fg_px)
+            for name, m in marks.items():
+                if name not in (layer.name, "blade"):
+                    layers_px |= m
+            exclude = None
+            if layers_px.any():
+                # The other layers' scribbled colours themselves (evenly thinned, no k-means: the
+                # shared generator stays as it was for the layers after this one).
+                oc = feat[layers_px]
+                oc = oc[np.linspace(0, len(oc) - 1, min(len(oc), 8 * params.clusters)).astype(int)]
+                exclude = np.zeros_like(blade)
+                exclude[blade] = _nearest(blade_feat, oc) < d_f_blade
+            mask = _along_lines(mask, ridges, fg_px, blade, exclude)
         if line is not None:
             # A drawn leaf's ink outline is a line like a vein: not grown into a thin layer nobody scribbled there.
             if ink is None:

@@ -31,6 +31,8 @@ _ON_LINE_ABOVE = 0.5
 _ON_LINE_KEEP = 0.3
 #: ... and only where the lines (strength 0.5 or more) cover at least this share of the blade.
 _DENSE_LINES = 0.15
+#: Line strength from which a pixel joined to the grown thin line layer along a line joins it (:func:`_along_lines`).
+_ALONG_LINE = 0.5
 
 
 def _on_line_pins(fg_px: np.ndarray, line: np.ndarray, ridges: np.ndarray, blade: np.ndarray) -> np.ndarray:
@@ -104,3 +106,22 @@ def _off_lines(line: np.ndarray, ridges: np.ndarray, fg_px: np.ndarray, blade: n
         long[0] = False
         narrow = long[lab]
     return ~(_binary_dilation(possible, iterations=reach) | narrow)
+
+
+
+def _along_lines(mask: np.ndarray, ridges: np.ndarray, fg_px: np.ndarray, blade: np.ndarray,
+                 exclude: np.ndarray | None = None, frac: float = _ALONG_LINE) -> np.ndarray:
+    """The grown thin line layer plus the fainter lines running out of it (hysteresis; beyond lazy snapping)."""
+    k = 1 if np.median(ridges[..., 3][fg_px]) > np.median(ridges[..., 2][fg_px]) else 0
+    above = ridges[..., 2 + k]
+    lift = max(float(np.median(above[fg_px])), 1e-6)
+    weak = blade & ((above >= frac * lift) | mask)
+    if exclude is not None:
+        weak &= ~exclude | mask
+    lab, n = ndi.label(weak, structure=np.ones((3, 3), bool))
+    if n == 0:
+        return mask
+    keep = np.zeros(n + 1, bool)
+    keep[lab[mask & weak]] = True
+    keep[0] = False
+    return mask | keep[lab]
