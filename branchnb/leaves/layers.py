@@ -47,7 +47,7 @@ from skimage.segmentation import slic
 
 from ..core.image import as_mask, as_rgb
 from ..core.params import check_params, param
-from ._lines import _line_channel, _ridges
+from ._lines import _NETWORK, _line_channel, _network, _ridges
 from .analysis_outline import _unscribbled_outline
 
 # Lazy snapping's steps, one module each; every name importable from here as before.
@@ -63,6 +63,7 @@ from .layers_lines import (  # noqa: F401
     _ON_LINE_ABOVE,
     _ON_LINE_KEEP,
     _along_lines,
+    _line_kind,
     _off_lines,
     _on_line_pins,
 )
@@ -312,6 +313,7 @@ def grow_layers(image, blade, layer_set: LayerSet, params: SnapParams | None = N
     ridges = _ridges(lab[..., 0], blade) if params.line_weight > 0 else None
 
     masks = {}
+    along = {}
     ink = None
     for layer in layer_set.ordered():
         fg_px = _on_layer(each[layer.name], feat, blade)
@@ -395,7 +397,10 @@ def grow_layers(image, blade, layer_set: LayerSet, params: SnapParams | None = N
             conf = np.abs(e_fg - e_bg) / np.maximum(area, 1.0)
             mask = _refine(mask, feat, blade, fg_px, others, fg_c, bg_c, prior * conf[sp],
                            params.smoothness, line, params.line_weight, distances=(d_f_blade, d_b_blade))
-        if line is not None and _ALONG:
+        if line is not None and _ALONG and _network(
+                ridges[..., 2 + _line_kind(ridges, fg_px)], fg_px, blade) >= _NETWORK:
+            # Only a layer scribbled in a network of lines (veins; a spot layer taken for a line layer
+            # grew along the dark flanks of pale veins: spots IoU 0.50 -> 0.19, 400-px elliptic leaf).
             layers_px = np.zeros_like(fg_px)
             for name, m in marks.items():
                 if name not in (layer.name, "blade"):
@@ -408,7 +413,9 @@ def grow_layers(image, blade, layer_set: LayerSet, params: SnapParams | None = N
                 oc = oc[np.linspace(0, len(oc) - 1, min(len(oc), 8 * params.clusters)).astype(int)]
                 exclude = np.zeros_like(blade)
                 exclude[blade] = _nearest(blade_feat, oc) < d_f_blade
-            mask = _along_lines(mask, ridges, fg_px, blade, exclude)
+            grown = _along_lines(mask, ridges, fg_px, blade, lab[..., 0], exclude)
+            along[layer.name] = grown & ~mask
+            mask = grown
         if line is not None:
             # A drawn leaf's ink outline is a line like a vein: not grown into a thin layer nobody scribbled there.
             if ink is None:
@@ -416,6 +423,14 @@ def grow_layers(image, blade, layer_set: LayerSet, params: SnapParams | None = N
                 ink = drawn_outline(rgb, blade)
             mask = mask & ~_unscribbled_outline(mask, blade, marks[layer.name], ink)
         masks[layer.name] = mask
+    # The fainter lines a thin layer grew along never take another layer's own pixels (an upper vein
+    # layer grew into pale spots it touched: spots IoU 0.50 -> 0.22 on a 400-px elliptic leaf).
+    for name, extra in along.items():
+        core = np.zeros((h, w), bool)
+        for other, m in masks.items():
+            if other != name:
+                core |= m & ~along[other] if other in along else m
+        masks[name] = masks[name] & ~(extra & core)
     # Overlaps go to the upper layer.
     taken = np.zeros((h, w), bool)
     for name in [x.name for x in layer_set.ordered()]:
