@@ -6,7 +6,7 @@ package's stand-in user: twelve :func:`simulate_scribbles` strokes of
 daa59915): lobed 128 px seed 0 IoU 0.035 (its strokes over junctions made
 no line layer), fan 128 px seed 4 0.133, elliptic 128 px seed 4 0.325,
 elliptic 192 px seed 3 0.569 (unscribbled secondaries and tertiaries not
-grown). After: 0.79 / 0.82 / 0.69 / 0.83 with precision >= 0.9.
+grown). After: 0.83 / 0.81 / 0.66 / 0.82 with precision >= 0.91.
 """
 
 import numpy as np
