@@ -31,6 +31,15 @@ _ON_LINE_ABOVE = 0.5
 _ON_LINE_KEEP = 0.3
 #: ... and only where the lines (strength 0.5 or more) cover at least this share of the blade.
 _DENSE_LINES = 0.15
+#: Line strength from which a pixel joined to the grown thin line layer along a line joins it (:func:`_along_lines`).
+_ALONG_LINE = 0.4
+#: ... only for a grown layer this elongated (:func:`_elongation`): procedural vein layers grown at
+#: 128-400 px measured 20.9-913, spot layers 5.1-9.9.
+_ALONG_NETWORK = 15.0
+#: ... unless the layer would then cover more than this share of the blade.
+_ALONG_MOST = 0.5
+#: ... within this many px of it (the 11-px box's half width, where a branch shares the vein's box).
+_ALONG_GAP = 5
 
 
 def _on_line_pins(fg_px: np.ndarray, line: np.ndarray, ridges: np.ndarray, blade: np.ndarray) -> np.ndarray:
@@ -104,3 +113,52 @@ def _off_lines(line: np.ndarray, ridges: np.ndarray, fg_px: np.ndarray, blade: n
         long[0] = False
         narrow = long[lab]
     return ~(_binary_dilation(possible, iterations=reach) | narrow)
+
+
+
+def _line_kind(ridges: np.ndarray, fg_px: np.ndarray) -> int:
+    """0 if the scribbled pixels stand out lighter than the blade around them, 1 if darker."""
+    return 1 if np.median(ridges[..., 3][fg_px]) > np.median(ridges[..., 2][fg_px]) else 0
+
+
+def _elongation(mask: np.ndarray, fg_px: np.ndarray) -> float:
+    """Area over squared widest half width of the grown pieces holding scribbled pixels (all of them together)."""
+    lab, _ = ndi.label(mask, structure=np.ones((3, 3), bool))
+    ids = np.unique(lab[fg_px & mask])
+    ids = ids[ids > 0]
+    if not len(ids):
+        return 0.0
+    half = np.maximum(np.asarray(ndi.maximum(ndi.distance_transform_edt(mask), lab, ids), float), 1.0)
+    return float(np.sum(ndi.sum(mask, lab, ids)) / np.sum(half**2))
+
+
+def _along_lines(mask: np.ndarray, ridges: np.ndarray, fg_px: np.ndarray, blade: np.ndarray,
+                 exclude: np.ndarray | None = None, frac: float = _ALONG_LINE) -> np.ndarray:
+    """The grown thin line layer plus the fainter lines running out of it (hysteresis; beyond lazy snapping).
+
+    A pixel joins when it stands out (lighter or darker, as the scribbled
+    pixels do) from the blade around it (an 11-px box) by at least ``frac``
+    of what the scribbled pixels stand out, and its piece of such pixels
+    comes within :data:`_ALONG_GAP` px of the grown layer: the first 3-4 px
+    of a branch leaving a bold vein share their box with the vein and stand
+    out less (the branch was cut off there). ``exclude``: pixels that never join.
+    """
+    k = _line_kind(ridges, fg_px)
+    above = ridges[..., 2 + k]
+    lift = max(float(np.median(above[fg_px])), 1e-6)
+    # Not beside a line of the other kind standing out as much (a drawn leaf's ink outline: the fill
+    # within its 11-px box is lighter than the box, and pale veins grew round the whole rim, IoU 0.81 -> 0.35).
+    other = _binary_dilation(ridges[..., 3 - k] >= lift, iterations=_ALONG_GAP)
+    weak = blade & ~mask & ~other & (above >= frac * lift)
+    if exclude is not None:
+        weak &= ~exclude
+    lab, n = ndi.label(weak, structure=np.ones((3, 3), bool))
+    if n == 0:
+        return mask
+    keep = np.zeros(n + 1, bool)
+    keep[lab[_binary_dilation(mask, iterations=_ALONG_GAP) & weak]] = True
+    keep[0] = False
+    out = mask | keep[lab]
+    # A line layer is never most of the blade: between dense parallel veins (a 192-px strip, veins 35 %
+    # of it) the blade itself stood out and the layer took 81 % of the blade (vein IoU 0.46 -> 0.22).
+    return mask if out.sum() > _ALONG_MOST * blade.sum() else out
