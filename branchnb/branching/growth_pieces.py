@@ -95,7 +95,7 @@ class _Pieces:
         return int(self.labels[r, k])
 
 
-def grid_pieces(region: np.ndarray | None, density) -> _Pieces | None:
+def _grid_pieces(region: np.ndarray | None, density) -> _Pieces | None:
     """:class:`_Pieces` of ``region`` on ``density``'s grid, or None (one piece, no density)."""
     if region is None or density is None:
         return None
