@@ -83,7 +83,7 @@ from .skeleton_tree import (  # noqa: F401  (re-exported: split from this module
 )
 from .small_frames import SMALL_SIDE, _reach_frame
 from .stroke_joins import find_stroke_joins
-from .wide_lines import frame_reaching_skeleton, wide_line_mask
+from .wide_lines import frame_reaching_skeleton, region_arms, wide_line_mask
 
 __all__ = [
     "branch_from_clicks",
@@ -338,6 +338,11 @@ def extract_structure(image, params: ExtractionParams | None = None, *, mask=Non
     # lines wider than the filter's scales (a 20 px trunk): the filter misses their flat interior; found
     # against the image itself (uniformly dark across), added to the mask (beyond the paper, issue 23)
     wide = wide_line_mask(work, bw, _pol, p.sigma_max) if lines is gray else np.zeros_like(bw)
+    if wide.any() and np.ndim(colour_image) == 3:
+        # a sea strait between two drawn coasts is an arm of the sea, no wide river (.wide_lines.region_arms)
+        rgb_w = as_rgb(colour_image)
+        rgb_w = rgb_w if rgb_w.shape[:2] == wide.shape else resize(rgb_w, wide.shape + (rgb_w.shape[2],))
+        wide &= ~region_arms(wide, rgb_w)
     near_wide = wide
     if wide.any():
         near_wide = ndi.binary_dilation(wide, iterations=int(np.ceil(2 * p.sigma_max)))

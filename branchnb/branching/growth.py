@@ -69,6 +69,7 @@ from .growth_bounds import (
     _thin_below_forks,
 )
 from .growth_frame import _FrameRules
+from .growth_pieces import _grid_pieces
 from .growth_selection import _Selection
 from .guidance import Guidance
 from .meander_hold import example_meander, meander_factor
@@ -239,6 +240,8 @@ class _Grower(_FrameRules, _Selection, _Generations, _Starts, _Filling):
             if params.colonization else None
         self.coverage_target = params.max_coverage if params.max_coverage > 0 else \
             min(model.coverage_at(self.rho), 1.0)
+        # a domain of separate pieces (islands) is covered piece by piece (.growth_pieces)
+        self.pieces = _grid_pieces(region, self.density) if guidance is None else None
         # the density stop waits for as many branches as the example has, up to MIN_BRANCHES (_min_branches)
         self.min_branches, self._min_branch_len = _min_branches(model) if params.max_coverage <= 0 else (0, 0.0)
         self.store = SegmentStore(shape=self.shape)
@@ -360,6 +363,11 @@ class _Grower(_FrameRules, _Selection, _Generations, _Starts, _Filling):
         st, p = self.branches[bi], self.p
         if st.stop:
             return False
+        if self.pieces is not None and self.coverage_target < 1:
+            k = self.pieces.at(st.points[-1])
+            if k and self.pieces.full(self.coverage_target)[k]:
+                st.stop = "density"
+                return False
         if not st.elem_a:
             st.stop = "no history"
             return False

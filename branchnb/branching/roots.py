@@ -141,6 +141,23 @@ class RootModel:
             self.__dict__["_frame_cache"] = hit
         return hit[1]
 
+    def _pieces(self, dom: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+        """The domain's pieces large enough to hold a tree (:func:`.growth_pieces.domain_pieces`) and, for
+        every pixel, the label of the nearest one; None when there is only one (kept like :meth:`_frame`)."""
+        from .growth_pieces import domain_pieces
+
+        key = (dom.shape, hashlib.blake2b(np.packbits(dom).tobytes(), digest_size=16).digest())
+        hit = self.__dict__.get("_pieces_cache")
+        if hit is None or hit[0] != key:
+            lab = domain_pieces(dom)
+            out = None
+            if lab is not None:
+                _d, (iy, ix) = ndi.distance_transform_edt(lab == 0, return_indices=True)
+                out = (lab, lab[iy, ix])
+            hit = (key, out)
+            self.__dict__["_pieces_cache"] = hit
+        return hit[1]
+
     def sample(self, domain: np.ndarray, rng=None, n: int | None = None,
                min_depth: float = 2.0) -> list[tuple[float, float, float]]:
         """Draw ``n`` (default ``n_roots``) starts ``(x, y, angle)`` in ``domain`` ((H, W) bool).
@@ -172,19 +189,28 @@ class RootModel:
         diag = float(np.hypot(h, w))
         spacing = self.spacing * diag if np.isfinite(self.spacing) else 0.0
         order = np.concatenate([rng.permutation(self.n_roots) for _ in range(n // self.n_roots + 1)])[:n]
+        pieces = self._pieces(dom)
         starts: list[tuple[float, float, float]] = []
         for j in order:
             kind = int(self.sides[j])
             depth = max(float(self.depth[j]), min_depth)
+            where = dom
+            if pieces is not None:
+                # a domain of separate pieces (islands): the root starts on the piece nearest to where
+                # the example's did, so each island gets its own trees (beyond the paper, issue 23: a
+                # broad pull towards the example's place put an island's tree on its neighbour, and
+                # three islands 50 px apart at 512 px got 4, 1 and 0 trees for the example's 2, 1, 2)
+                qx, qy = self.positions[j] * (w, h)
+                where = pieces[0] == pieces[1][int(np.clip(qy, 0, h - 1)), int(np.clip(qx, 0, w - 1))]
             if kind == 5:
-                band = dom & (dist >= max(depth * 0.5, min_depth))
+                band = where & (dist >= max(depth * 0.5, min_depth))
             else:
-                band = dom & (np.abs(dist - depth) <= 1.0) & (side == kind)
+                band = where & (np.abs(dist - depth) <= 1.0) & (side == kind)
                 if not band.any():  # that boundary does not exist here: any boundary
-                    band = dom & (np.abs(dist - depth) <= 1.0)
+                    band = where & (np.abs(dist - depth) <= 1.0)
             ys, xs = np.nonzero(band)
             if len(ys) == 0:
-                ys, xs = np.nonzero(dom)
+                ys, xs = np.nonzero(where)
             if len(ys) > _MAX_CANDIDATES:
                 # a random subset is as good a choice and keeps the spacing test cheap on big maps
                 keep = rng.choice(len(ys), _MAX_CANDIDATES, replace=False)

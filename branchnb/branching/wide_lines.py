@@ -28,7 +28,7 @@ from scipy import ndimage as ndi
 
 from ..core.morphology import disk as _disk
 
-__all__ = ["wide_line_mask", "frame_reaching_skeleton"]
+__all__ = ["wide_line_mask", "frame_reaching_skeleton", "region_arms"]
 
 #: A region is a wide line when a disk of radius ``WIDE_DISK x sigma_max`` fits in it everywhere
 #: (opening): narrower lines are the ridge filter's own (a 4-px sigma_max traces lines up to ~12 px).
@@ -43,6 +43,65 @@ WIDE_FLAT = 0.85
 #: Largest median contrast 2-4 px outside a wide line's dark area, as a share of the dark threshold:
 #: a line's edge is a step to its ground, a shaded patch's edge fades (see :func:`_sharp_edged`).
 WIDE_EDGE = 0.5
+
+#: A wide line's colour continues into a region of its colour (within this, per channel) ...
+ARM_TOL = 0.06
+#: ... this many times wider (largest inscribed disk) than the line: it is an arm of that region (a sea
+#: strait between two islands, 40 px wide on a 768 px map, opening into the sea), not a line.
+ARM_WIDER = 2.5
+
+
+def region_arms(wide: np.ndarray, rgb: np.ndarray) -> np.ndarray:
+    """The pieces of the wide-line mask ``wide`` that are arms of a wider flat region of their colour.
+
+    Beyond the paper (issue 23): between two islands of a drawn map the
+    sea's strait is darker than the land round it, flat across and walled
+    by the coast lines, so :func:`wide_line_mask` took it for a 40-60 px
+    river (768-1024 px maps: 7-10 % of the traced length in the sea, radius
+    23-39 px). A wide line's own colour does not go on, uninterrupted, into
+    a region far wider than the line (:data:`ARM_WIDER`); a strait's does
+    (the open sea). Colour, not luminance: a trunk of a crown's luminance
+    is still another colour.
+
+    Parameters
+    ----------
+    wide : (H, W) bool ndarray
+        The wide lines (:func:`wide_line_mask`).
+    rgb : (H, W, 3) ndarray
+        The image's colours in [0, 1], at the mask's scale.
+
+    Returns
+    -------
+    (H, W) bool ndarray
+        The pieces of ``wide`` to drop.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.ones((120, 200, 3)); img[:, 150:] = 0.5; img[50:70, :150] = 0.5   # a sea, an arm of it
+    >>> w = np.zeros((120, 200), bool); w[52:68, 10:140] = True
+    >>> bool(region_arms(w, img).any()), bool(region_arms(w, np.where(w[..., None], 0.5, 1.0)).any())
+    (True, False)
+    """
+    out = np.zeros(wide.shape, bool)
+    lab, n = ndi.label(wide)
+    if n == 0:
+        return out
+    rgb = np.asarray(rgb, np.float32)[..., :3]
+    for i in range(1, n + 1):
+        piece = lab == i
+        colour = np.median(rgb[piece], axis=0)
+        same = np.abs(rgb - colour).max(-1) <= ARM_TOL
+        comp, _ = ndi.label(same)
+        ids = np.unique(comp[piece & same])
+        ids = ids[ids > 0]
+        if not ids.size:
+            continue
+        region = np.isin(comp, ids)
+        width = float(ndi.distance_transform_edt(piece).max())
+        if float(ndi.distance_transform_edt(np.pad(region, 1))[1:-1, 1:-1].max()) >= ARM_WIDER * max(width, 1.0):
+            out |= piece
+    return out
 
 
 def _far_contrast(gray: np.ndarray, polarity: str, radius: float) -> np.ndarray:
