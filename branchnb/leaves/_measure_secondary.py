@@ -1,13 +1,13 @@
 """Secondary veins on every exemplar, each leaf of a family as the training leaf (issue 22, leaves89).
 
 ``python -m branchnb.leaves._measure_secondary [--kinds lobed,trilobed,elliptic,fan] [--sizes 192,256,400]
-[--seeds 0,1,2] [--before]`` builds ``leaf_family(3, size, kind, rng=seed)``, scribbles each leaf in turn
+[--seeds 0,1,2] [--mode 0|1|2]`` builds ``leaf_family(3, size, kind, rng=seed)``, scribbles each leaf in turn
 as a user would (:func:`~branchnb.leaves.layers_scribbles.simulate_scribbles`: 10 vein strokes of 0.06
 and 10 spot strokes of 0.025 of the canvas), runs :func:`~branchnb.leaves.analysis.analyze` and prints
 one JSON row per (kind, size, seed, training leaf): the vein and spot IoU of every exemplar's induced
 layer with its truth (the training leaf's entry: its grown layer), then a summary per kind and size.
-``--before``: without an exemplar's own ``delta`` at its ridge pixels
-(:data:`branchnb.leaves.analysis_masks._RIDGE_DELTA` off).
+``--mode 0``: without an exemplar's own ``delta`` at its ridge pixels, ``1``: with it and the whole mask
+trimmed by contrast (:data:`branchnb.leaves.analysis_masks._RIDGE_DELTA`; default 2).
 """
 
 from __future__ import annotations
@@ -50,10 +50,11 @@ def main(argv=None):
     ap.add_argument("--kinds", default="lobed,trilobed,elliptic,fan")
     ap.add_argument("--sizes", default="192,256,400")
     ap.add_argument("--seeds", default="0,1,2")
-    ap.add_argument("--before", action="store_true", help="without the exemplars' own delta at their ridges")
+    ap.add_argument("--mode", type=int, default=2, choices=(0, 1, 2),
+                    help="0: without the exemplars' own delta at their ridges (before); 1: whole mask trimmed")
     args = ap.parse_args(argv)
     from . import analysis_masks
-    analysis_masks._RIDGE_DELTA = not args.before
+    analysis_masks._RIDGE_DELTA = args.mode
     rows = []
     for seed in (int(s) for s in args.seeds.split(",")):
         for size in (int(s) for s in args.sizes.split(",")):

@@ -66,9 +66,9 @@ class _MaskSteps:
 
 
 #: An exemplar without its own colour model chooses its own ``delta`` against its own ridge pixels
-#: (:func:`_exemplar_mask`); False: the training leaf's ``delta`` alone there (as before leaves89, for
-#: measuring).
-_RIDGE_DELTA = True
+#: (:func:`_exemplar_mask`): 2 (default) what that adds is trimmed by contrast, 1 the whole mask is
+#: (measured worse at 400 px), 0 the training leaf's ``delta`` alone there (as before leaves89). For measuring.
+_RIDGE_DELTA = 2
 
 
 def _contrast_map(lab_t, lab_e, steps: _MaskSteps, e: int) -> np.ndarray:
@@ -103,11 +103,13 @@ def _exemplar_mask(steps: _MaskSteps, e: int, combined_e, delta: float, tr_iou: 
     0.43, a lobe's lateral and most secondaries lost). An exemplar read with the training colour model
     (``own_px`` None) now chooses its own ``delta`` (:func:`~branchnb.leaves.analysis_own._own_delta`,
     never below the training leaf's) against its own ridge pixels (``ridge_px``, there 0.997 on true
-    veins, 0.82 of them), applied next to them only, and the raised mask is trimmed by contrast as an
-    exemplar with its own colour model is. Measured (``python -m
-    branchnb.leaves._measure_secondary``; 4 kinds, 192 / 256 px, seeds 0-2, each of 3 leaves as the
-    training leaf, simulated scribbles): exemplar vein IoU mean 0.755 -> 0.804, min 0.447 -> 0.722,
-    exemplars under 0.7 10 -> 0 of 84; worst loss 0.03 (trilobed 256 px); spots 0.920 -> 0.921.
+    veins, 0.82 of them), applied next to them only, and what that adds is trimmed by contrast as an
+    exemplar with its own colour model is (there 0.43 -> 0.74). Measured with ``python -m
+    branchnb.leaves._measure_secondary`` (4 kinds, 192 / 256 / 400 px, seed 0, each of 3 leaves as the
+    training leaf, simulated scribbles; 68 exemplars): vein IoU mean 0.775 -> 0.805, min 0.633 -> 0.721,
+    under 0.7 4 -> 0, none lower by 0.001; spots 0.927 either way. Trimming the whole raised mask instead
+    (``_RIDGE_DELTA`` 1; 234 exemplars, seeds 0-3): mean 0.767 -> 0.804, under 0.7 22 -> 0, but 400 px
+    veins lost width (trilobed 400 px mean 0.808 -> 0.785, one exemplar 0.884 -> 0.779).
     """
     from .analysis_combine import COLOUR_RELIABLE, _induced, _over_induced, colour_alone
     from .analysis_own import _own_delta
@@ -149,9 +151,10 @@ def _exemplar_mask(steps: _MaskSteps, e: int, combined_e, delta: float, tr_iou: 
         m = m | (own & np.isin(lab, keep[keep > 0]))
     # An exemplar read with the training colour model chooses its own delta against its own ridge
     # pixels (see Notes).
-    own_px = s.own_px[e] if s.own_px[e] is not None or not _RIDGE_DELTA else s.ridge_px[e]
+    own_px = s.own_px[e] if s.own_px[e] is not None or _RIDGE_DELTA == 0 else s.ridge_px[e]
     d_e = _own_delta(combined_e, delta, own_px, blade)
     raised = d_e > delta and not over
+    before = m
     if raised:
         # Beyond the training leaf's delta only next to the exemplar's own layer pixels: its ridges of
         # the layer's contrast and the snapped paths grown to its own veins' width. Next to the ridges
@@ -171,7 +174,10 @@ def _exemplar_mask(steps: _MaskSteps, e: int, combined_e, delta: float, tr_iou: 
         # Where {D < delta} is induced (the snapped paths alone are drawn to width already:
         # trimmed, the sample maples' induced veins lost half their width, IoU 0.64 -> 0.43).
         contrast = contrast_of(e)
-        m = trim_by_contrast(without_blobs(m, s.user, s.blades[t], blade), contrast)
+        trimmed = trim_by_contrast(without_blobs(m, s.user, s.blades[t], blade), contrast)
+        # Read with the training colour model, only what the own delta added is trimmed: the whole
+        # mask trimmed lost width on wider veins (trilobed 400 px: 0.88 -> 0.78, see Notes).
+        m = trimmed if s.own_px[e] is not None or _RIDGE_DELTA != 2 else before | (trimmed & ~before)
     if s.snapped is not None:
         m = _trimmed(m, blade, s.user, s.snapped[e], s.zones[e], s.rims[e], outline_in_layer=s.outline_in_layer,
                      inked_outline=s.inked_outline)
