@@ -4,7 +4,7 @@ import cv2
 import numpy as np
 import pytest
 
-from branchnb.trees.ground import _detached_trunk, _join_detached_trunk
+from branchnb.trees.detached_trunk import _detached_trunk, _join_detached_trunk
 from branchnb.trees.library import TreeLibrary
 
 OUTLINE = (0.1, 0.08, 0.05, 1.0)

@@ -13,6 +13,7 @@ import cv2
 import numpy as np
 import pytest
 from scipy.spatial import Delaunay
+from trees_facets import reduce_drawing
 
 from branchnb.trees import TreeLibrary
 from branchnb.trees.flat_art import _source_pixel
@@ -68,12 +69,7 @@ def faceted(size, seed, aa=True):
         cv2.fillPoly(rgb, [p], tuple(map(float, col)))
         cv2.fillPoly(a, [p], 1.0)
         cv2.fillPoly(tr, [p], 0.0)
-    if ss > 1:
-        prem = cv2.resize(np.dstack([rgb * a[..., None], a]), (size, size), interpolation=cv2.INTER_AREA)
-        a = prem[..., 3]
-        rgb = np.clip(prem[..., :3] / np.maximum(a, 1e-6)[..., None], 0, 1)
-        tr = cv2.resize(tr, (size, size), interpolation=cv2.INTER_AREA)
-    return np.dstack([rgb, a]).astype(np.float32), (tr >= 0.5) & (a >= 0.5)
+    return reduce_drawing(rgb, a, tr, size, ss)
 
 
 def test_thin_facet_outline_is_straight():

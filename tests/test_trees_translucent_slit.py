@@ -38,14 +38,19 @@ def test_no_slit_at_the_trunk_top(kind):
     assert float(np.median(a[..., 1][crown])) > float(np.median(a[..., 0][crown]))
 
 
-def test_slit_needs_trunk_and_crown():
-    # a hole of the crown away from the trunk stays; a bay between trunk and crown is taken
+def _crown_on_trunk(x0: int, x1: int):
+    """A 40 x 40 crown block on a trunk of columns ``x0:x1``: (opaque, trunk, mixed silhouette)."""
     op = np.zeros((40, 40), bool)
     op[5:25, 5:35] = True
-    op[25:39, 18:22] = True
+    op[25:39, x0:x1] = True
     trunk = np.zeros_like(op)
-    trunk[25:39, 18:22] = True
-    mask = op.copy()
+    trunk[25:39, x0:x1] = True
+    return op, trunk, op.copy()
+
+
+def test_slit_needs_trunk_and_crown():
+    # a hole of the crown away from the trunk stays; a bay between trunk and crown is taken
+    op, trunk, mask = _crown_on_trunk(18, 22)
     mask[25:30, 10:30] = True
     op[10:14, 8:12] = False      # a hole of the crown
     op[20:25, 22:26] = False     # a slit beside the trunk's top
@@ -72,12 +77,7 @@ def test_opaque_mix_keeps_no_notch_at_the_trunk_top():
 
 def test_opaque_slit_needs_crown_round_it():
     # a hole of the trunk just under the crown is the trunk's own: kept where crown is asked round the gap
-    op = np.zeros((40, 40), bool)
-    op[5:25, 5:35] = True
-    op[25:39, 16:24] = True
-    trunk = np.zeros_like(op)
-    trunk[25:39, 16:24] = True
-    mask = op.copy()
+    op, trunk, mask = _crown_on_trunk(16, 24)
     op[25:28, 19:21] = False     # a knot hole at the trunk's top
     op[18:25, 22:25] = False     # a slit beside the trunk's top, up into the crown
     assert _trunk_slit(op, mask, trunk)[26, 19]

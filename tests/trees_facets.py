@@ -42,3 +42,32 @@ def facet_regions(img: np.ndarray, crown: np.ndarray, min_px: int) -> tuple[np.n
         return lab, 0
     _, (iy, ix) = ndi.distance_transform_edt(lab == 0, return_indices=True)
     return np.where(crown, lab[iy, ix], 0).astype(np.int32), n
+
+
+def reduce_drawing(rgb: np.ndarray, alpha: np.ndarray, trunk: np.ndarray, size: int, ss: int):
+    """A drawing made ``ss`` times too large, reduced to ``size`` (premultiplied area average).
+
+    Parameters
+    ----------
+    rgb, alpha, trunk : np.ndarray
+        The large drawing: HxWx3 colour, HxW coverage, HxW trunk coverage.
+    size : int
+        Side of the reduced image.
+    ss : int
+        Supersampling factor the drawing was made at (1: returned as drawn).
+
+    Returns
+    -------
+    image : np.ndarray
+        ``size`` x ``size`` x 4 float32 straight RGBA.
+    trunk : np.ndarray
+        Its trunk pixels (trunk and alpha both at least 0.5).
+    """
+    import cv2
+
+    if ss > 1:
+        prem = cv2.resize(np.dstack([rgb * alpha[..., None], alpha]), (size, size), interpolation=cv2.INTER_AREA)
+        alpha = prem[..., 3]
+        rgb = np.clip(prem[..., :3] / np.maximum(alpha, 1e-6)[..., None], 0, 1)
+        trunk = cv2.resize(trunk, (size, size), interpolation=cv2.INTER_AREA)
+    return np.dstack([rgb, alpha]).astype(np.float32), (trunk >= 0.5) & (alpha >= 0.5)

@@ -69,12 +69,14 @@ class DrawingStyle:
         from it at the same place (mirrored beyond its size). None or a
         missing label: the flat colour.
     two_tone : bool
-        The example is a binary line mask (one region, every pixel either
-        its colour or the line colour, no anti-aliasing): the drawing is
-        snapped to those two colours, each branch keeping an unbroken
-        8-connected centre line (beyond the paper: a mask synthesized from
-        a mask stays a mask, and its one-pixel lines stay whole and full
-        strength).
+        The example is a binary line mask (every pixel a region's colour or
+        the line colour, no anti-aliasing, no boundary line: one ground, or
+        a delta's land and sea): the drawing is snapped to those colours,
+        each branch keeping an unbroken 8-connected centre line (beyond the
+        paper: a mask synthesized from a mask stays a mask, and its one-pixel
+        lines stay whole and full strength; with a sea, issue 23, three
+        384-1024 px deltas: grey pixels 0.6-1.4 % -> 0, one seed's 9 line
+        pieces and 8 specks -> 1 and 0).
     taper : float or None
         For masks (one ground, or lines in the colour of a region: a delta's
         channels in the sea's): the example's median end-to-start radius
@@ -173,15 +175,17 @@ def drawing_style(image: np.ndarray, structure: Structure, layout: np.ndarray, p
         span = np.linalg.norm(np.asarray(colour, np.float32) - region_col, axis=-1)
         return np.clip(off_region / np.maximum(span, 1e-6), 0.0, 1.0) * (span > tol)
 
-    lengths = [b.length for b in structure.branches]
-    total = max(float(np.sum(lengths)), 1.0)
-    mean_r = float(np.sum([b.length * np.mean(b.thickness) for b in structure.branches])) / total
+    # the width is measured along the branches' stretches that lie in the branch region: a stretch in
+    # another region is no line drawn on it (a sea strait between two islands that the wide-line search
+    # took for a 40 px river, issue 23): its 20-34 px radius against the coast lines' ink halved the
+    # scale, and the output's 2 px rivers came out as faint 1 px dashes (768 px two-island map: 80-121
+    # line pieces per tree, 208-338 specks)
+    inside = lay == branch_region
+    total, mean_r = _length_and_radius(structure, inside)
     zone = pm.dist <= 3 * max(mean_r, 1.0) + 3
     drawn = float(cover(line)[zone].sum())
     width = drawn / total
     scale = float(np.clip(width / max(2 * mean_r, 1e-6), 0.25, 4.0)) if drawn else 1.0
-    # the boundary of the branch region, away from the branches and the frame
-    inside = lay == branch_region
     b_col, b_width = _boundary_line(img, inside, lay, k, pm, mean_r, off_region, unlike_region, line, cover,
                                     cols, tol)
     direct = b_col is not None
@@ -254,8 +258,11 @@ def drawing_style(image: np.ndarray, structure: Structure, layout: np.ndarray, p
         band = max(band, float(np.max(np.abs(profile[0]))))
     textures = _region_textures(img, lay, cols, pm, line, band, branch_region, b_col)
     # a binary line mask: every pixel is the ground colour or the line colour
-    two_tone = bool(k == 1 and b_col is None and not textures
-                    and np.all(np.minimum(np.abs(img - cols[0]).max(-1), np.abs(img - line).max(-1)) <= 1.5 / 255))
+    # (and a binary mask with a sea, k == 2: a delta's white channels and sea on black land, where
+    # each pixel is a region's colour or the line's; drawn anti-aliased, 0.6-1.4 % of the output's
+    # pixels were grey and thin channels faded into dashes: 384 px delta, 9 pieces, 8 specks)
+    two_tone = bool(b_col is None and not textures and profile is None
+                    and np.all(np.min([np.abs(img - c).max(-1) for c in list(cols) + [line]], axis=0) <= 1.5 / 255))
     # a mask (lines on one ground, or drawn in a region's own colour: a delta's channels in the sea's
     # colour) is drawn with the example's taper; a map's rivers in their own ink keep their radii
     taper, tip_r = None, 0.0
@@ -266,6 +273,32 @@ def drawing_style(image: np.ndarray, structure: Structure, layout: np.ndarray, p
     return DrawingStyle(cols.astype(np.float32), branch_region, line.astype(np.float32), scale,
                         None if b_col is None else b_col.astype(np.float32), b_width, reach, tip_reach,
                         textures or None, two_tone, taper, tip_r, profile, dashes)
+
+
+def _length_and_radius(structure: Structure, inside: np.ndarray) -> tuple[float, float]:
+    """(length, length-weighted mean radius) of the branches' segments that lie in ``inside``: both
+    ends on it and at most 1 px less deep in it than their radius (a line drawn on a region stays in
+    it); of all segments when under half of the length does (the region does not hold the lines)."""
+    h, w = inside.shape
+    depth = ndi.distance_transform_edt(inside)
+    seg, rad, ins = [], [], []
+    for b in structure.branches:
+        p = np.asarray(b.points, np.float64)
+        if len(p) < 2:
+            continue
+        t = np.asarray(b.thickness, np.float64)
+        q = np.rint(p).astype(int)
+        on = depth[np.clip(q[:, 1], 0, h - 1), np.clip(q[:, 0], 0, w - 1)] + 1.0 >= np.maximum(t, 0.5)
+        seg.append(np.hypot(*np.diff(p, axis=0).T))
+        rad.append(0.5 * (t[1:] + t[:-1]))
+        ins.append(on[1:] & on[:-1])
+    if not seg:
+        return 1.0, 0.0
+    seg, rad, ins = np.concatenate(seg), np.concatenate(rad), np.concatenate(ins)
+    if seg[ins].sum() < 0.5 * seg.sum():
+        ins[:] = True
+    total = max(float(seg[ins].sum()), 1.0)
+    return total, float(np.sum(seg[ins] * rad[ins])) / total
 
 
 def _boundary_line(img, inside, lay, k, pm, mean_r, off_region, unlike_region, line, cover, cols, tol):
@@ -688,7 +721,7 @@ def draw_in_style(style: DrawingStyle, structure: Structure, labels: np.ndarray,
         wide = [i for i, x in enumerate(raw) if np.median(x) >= 1.5]
         cov = coverage_polylines((h, w), [pls[i] for i in wide], [wid[i] for i in wide])[0] if wide \
             else np.zeros((h, w), np.float32)
-        return _two_tone(cov >= 0.5, pls, cols[style.branch_region], style.line_colour)
+        return _two_tone(cov >= 0.5, pls, img, style.line_colour)
     if pls:
         cov, owner = coverage_polylines((h, w), pls, wid)
         # a line thinner than a pixel is drawn one pixel wide at that share of the ink (as the
@@ -700,7 +733,7 @@ def draw_in_style(style: DrawingStyle, structure: Structure, labels: np.ndarray,
 
 def _two_tone(ink: np.ndarray, lines: list, ground: np.ndarray, line: np.ndarray) -> np.ndarray:
     """A two-colour drawing: ``ink`` pixels and every line's 8-connected centre-line raster in the
-    ``line`` colour, the rest ``ground``."""
+    ``line`` colour, the rest ``ground`` (a colour, or an (H, W, C) image of the regions' colours)."""
     import cv2
 
     g, c = np.asarray(ground, np.float32), np.asarray(line, np.float32)
@@ -710,4 +743,5 @@ def _two_tone(ink: np.ndarray, lines: list, ground: np.ndarray, line: np.ndarray
         cv2.polylines(centre, [np.round(np.asarray(pts, np.float64) * 8).astype(np.int32)], False, 1, 1,
                       cv2.LINE_8, 3)
     ink |= centre > 0
+    g = g if g.ndim == 3 else np.broadcast_to(g, ink.shape + g.shape)
     return np.where(ink[..., None], c, g).astype(np.float32)

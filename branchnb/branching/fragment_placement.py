@@ -174,7 +174,8 @@ class _Canvas:
 def _synthesize_fragments(ctx: _Context, pm_t: PixelMap, targets: list, shape, lib_b: FragmentLibrary,
                           lib_f: FragmentLibrary, free_start, free_end, free_t, banks: dict, labels_t,
                           src_labels, use_poisson: bool, rng: np.random.Generator, report,
-                          frag_share: float, light=None) -> _Canvas:
+                          frag_share: float, light=None, neutral_lines=None,
+                          neutral_tol: float = 0.0) -> _Canvas:
     """Steps 1-3 for every target fragment, in order: choose, bend and compose (see
     :func:`~branchnb.branching.image_synthesis.synthesize_image`).
 
@@ -182,7 +183,15 @@ def _synthesize_fragments(ctx: _Context, pm_t: PixelMap, targets: list, shape, l
     :func:`~branchnb.branching.gap_completion.light_layout`, and the same at the output's size):
     going beyond the paper, each fragment is shifted by the difference of the layouts at its
     target centre and its source centre, so a bolt copied from a bright cloud into a dark
-    sky does not carry the cloud along as a glowing tube (its glow above the ground is kept)."""
+    sky does not carry the cloud along as a glowing tube (its glow above the ground is kept).
+
+    ``neutral_lines`` ((H, W) bool, optional): where the canvas and the fragment differ there by more
+    than ``neutral_tol`` in a channel, canvas pixels that are no boundary of the fragment's
+    gradient-domain correction (a hub example's lines and their soft edges,
+    :data:`~branchnb.branching.gap_completion.HUB_LINE_MARGIN`; beyond the paper, issue 23): where a
+    seam ran along an older line's edge that the fragment has as ground (or the other way round),
+    that line's colour was spread into the new fragment -- faded thin twigs, light specks at tips
+    and junctions. Where both hold the same line it still ties the line's colour across the seam."""
     from .image_result import FragmentMatch
 
     ex, sm_s, sm_t, p = ctx.ex, ctx.sm_s, ctx.sm_t, ctx.p
@@ -299,7 +308,10 @@ def _synthesize_fragments(ctx: _Context, pm_t: PixelMap, targets: list, shape, l
             b0, b1, tf.kind == "branch", float(own_lo), float(own_hi), covered)
         comp = compose_patch(canvas, covered, pix, valid, (x0, y0), protect_canvas=protect_canvas,
                              protect_piece=protect_piece, method=p.seams, poisson=use_poisson,
-                             anchored=p.anchors, anchor_weight=p.anchor_weight)
+                             anchored=p.anchors, anchor_weight=p.anchor_weight,
+                             neutral_canvas=None if neutral_lines is None
+                             else _crop(neutral_lines, x0, y0, size, False)
+                             & (np.abs(_crop(canvas, x0, y0, size, 0.0) - pix).max(axis=-1) > neutral_tol))
         n_pix = 0
         if comp is not None:
             wr, wc = comp.window

@@ -17,13 +17,15 @@ __all__: list[str] = []
 
 
 def compose_patch(canvas, covered, piece, valid, origin, *, protect_canvas=None, protect_piece=None,
-                  method="graphcut", poisson=True, anchored=True, anchor_weight=10.0, screen=0.0):
+                  method="graphcut", poisson=True, anchored=True, anchor_weight=10.0, screen=0.0,
+                  neutral_canvas=None):
     """:func:`branchnb.core.blending.compose_piece` with ``solver="iterative"`` (its correction by conjugate gradients).
 
     Parameters
     ----------
     canvas, covered, piece, valid, origin, protect_canvas, protect_piece, method, poisson, anchored, \
-anchor_weight, screen
+anchor_weight, screen, \
+neutral_canvas
         As for ``compose_piece``.
 
     Returns
@@ -42,4 +44,5 @@ anchor_weight, screen
     """
     return compose_piece(canvas, covered, piece, valid, origin, protect_canvas=protect_canvas,
                          protect_piece=protect_piece, method=method, poisson=poisson, anchored=anchored,
-                         anchor_weight=anchor_weight, screen=screen, solver="iterative")
+                         anchor_weight=anchor_weight, screen=screen, solver="iterative",
+                         neutral_canvas=neutral_canvas)

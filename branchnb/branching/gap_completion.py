@@ -37,6 +37,18 @@ SHADED = 1.2
 TEXTURE_SHARE = 0.2
 #: Side of the quilting patches on a patchwork ground, as a fraction of its patches' typical diameter.
 PATCHWORK_PATCH = 0.5
+#: ``line_margin`` of hub examples (:func:`_complete`, branching116): the fragments' pixels within
+#: r + this many px of a target line are neutral in the gaps' correction. With r + 1 px the lines' soft
+#: edges were its boundary and glowed 4-5 px into the ground, most round free ends, where a thin
+#: twig's disk (``min_radius``) stops about at the tip. Stray line colour per tip (median,
+#: :mod:`._hub_image_check`, ten hub examples 256-768 px): 0.20-1.13 -> 0.09-0.25 (example 0.13-0.90;
+#: :func:`.radial._off_hubs` alone left about 0.5 on coral and neuron_dark 384 s1)
+HUB_LINE_MARGIN = 3.0
+#: hub examples: within ``HUB_LINE_MARGIN`` of a line, a canvas pixel differing from a new fragment by
+#: more than this share of the example's line contrast (in a channel) is no boundary of the fragment's
+#: gradient-domain correction (a line's edge against the other's ground; branching119, measured with
+#: ``_hub_image_check`` on coral / neuron / neuron_dark 256-512 px)
+HUB_SEAM_MISMATCH = 0.3
 
 
 def _coarse_blur(img: np.ndarray, weight: np.ndarray, sigma: float, levels: int = 0) -> np.ndarray:
@@ -233,8 +245,13 @@ def _relight_setup(ex: np.ndarray, canvas: np.ndarray, covered: np.ndarray, regi
 
 def _complete(out, ex: np.ndarray, regions: ExampleRegions, p, flat: bool, use_poisson: bool, pm_s, pm_t,
               labels_t, src_labels, rng: np.random.Generator, report, frag_share: float, timings: dict,
-              domains=None, patchwork: float = 0.0):
+              domains=None, patchwork: float = 0.0, line_margin: float | None = None):
     """Gap completion of the fragments' canvas ``out`` (a ``_Canvas``, updated in place).
+
+    ``line_margin`` (px; None: the target's bodies ``out.body``, r + 1 px): the fragments' pixels
+    within ``r + line_margin`` of a target line are kept and are no boundary of the gaps' colour
+    correction (their colour is not spread into the quilted ground: a line's soft edge glowed there,
+    strongest round free ends where a fragment's disk stops at the tip; beyond the paper, issue 23).
 
     ``patchwork`` (> 0: the ground is flat patches of this typical diameter,
     :func:`~branchnb.branching.patchwork.is_patchwork`; beyond the paper, issue 23): the patches are
@@ -274,7 +291,8 @@ def _complete(out, ex: np.ndarray, regions: ExampleRegions, p, flat: bool, use_p
         size = p.patch_size
         if patchwork > 0:
             size = int(2 * round(np.clip(PATCHWORK_PATCH * patchwork, p.patch_size, 3 * p.patch_size) / 2))
-        kw = dict(patch_size=size, overlap=p.patch_overlap, protect=(body & covered) | inner,
+        lines = body if line_margin is None else pm_t.core(1.0, line_margin)
+        kw = dict(patch_size=size, overlap=p.patch_overlap, protect=(lines & covered) | inner,
                   tolerance=p.completion_tolerance, forbid_weight=p.forbid_weight, min_free=p.min_free,
                   method=p.seams, poisson=use_poisson and not patchwork, anchored=p.anchors,
                   anchor_weight=p.anchor_weight,

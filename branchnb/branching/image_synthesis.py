@@ -502,12 +502,27 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     # a salient spot (a retina's optic disc) is copied by no fragment, not even its own branch's
     # beyond that branch's body: carried along, it made pale copies of the disc at junctions
     unusable = regions.unusable if regions.salient is None else regions.unusable | (regions.salient & ~regions.body)
+    line_margin = None
+    neutral_tol = 0.0
     if getattr(target_structure, "hubs", None) and getattr(example_structure, "hubs", None):
         # nor the example's hubs (drawn whole at the output's hubs): copied along a spoke, their fill
         # made fat wedges on the primaries beside the hub (beyond the paper, issue 23)
-        from .radial import _hub_discs
+        from .radial import _hub_discs, _off_hubs
 
         unusable = unusable | _hub_discs(example_structure.hubs, unusable.shape)
+        # ... so no source fragment reaching into them either (it copied almost nothing: bars across the
+        # primaries every fragment), and the lines' soft edges stay out of the gaps' correction (glowing
+        # or blurred dark tips; branching116)
+        lib_b, lib_f = _off_hubs(lib_b, example_structure.hubs), _off_hubs(lib_f, example_structure.hubs)
+        from .gap_completion import HUB_LINE_MARGIN, HUB_SEAM_MISMATCH
+
+        line_margin = HUB_LINE_MARGIN
+        from .line_contrast import centre_ring_colours
+
+        if "hub_colours" not in cached:
+            cached["hub_colours"] = centre_ring_colours(ex, pm_s)
+        if cached["hub_colours"] is not None:
+            neutral_tol = HUB_SEAM_MISMATCH * float(np.abs(np.subtract(*cached["hub_colours"])).max())
     ctx = _Context(ex, sm_s, sm_t, pm_s, excluded, unusable, p)
     free_t = _free_ends(sm_t, pm_t)
     if len(lib_b) == 0:
@@ -529,7 +544,9 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
                      .reshape(H, W, -1))
     out = _synthesize_fragments(ctx, pm_t, targets, (H, W), lib_b, lib_f, free_start, free_end, free_t,
                                 cached["vec_cache"], labels_t, src_labels, use_poisson, rng, report,
-                                frag_share, light)
+                                frag_share, light,
+                                neutral_lines=None if line_margin is None else pm_t.core(1.0, line_margin),
+                                neutral_tol=neutral_tol)
     timings["fragments"] = time.perf_counter() - t0
     if cached.get("patchwork", 0.0) and p.completion and not flat:
         # a patchwork ground (beyond the paper, issue 23): a fragment's disk carried its own field's
@@ -542,7 +559,7 @@ def synthesize_image(example_image, example_structure: Structure, target_structu
     fill, n_inpainted = _complete(out, ex, regions, p, flat, use_poisson, pm_s, pm_t, labels_t, src_labels,
                                   rng, report, frag_share, timings,
                                   domains=None if boundary is None else (boundary.domain, target_domain),
-                                  patchwork=cached.get("patchwork", 0.0))
+                                  patchwork=cached.get("patchwork", 0.0), line_margin=line_margin)
     canvas, source, frag_index, seams = out.canvas, out.source, out.frag_index, out.seams
     shown = cached["ex"]
     if cached["shading"] is not None:

@@ -399,6 +399,35 @@ def _hub_discs(hubs, shape) -> np.ndarray:
     return out
 
 
+def _off_hubs(lib, hubs, *, keep: float = 0.5):
+    """``lib`` (a :class:`~.fragments.FragmentLibrary`) without the fragments whose disk reaches into the
+    :func:`_hub_discs` of ``hubs`` (those pixels are never copied, see ``synthesize_image``).
+
+    A fragment centred in or beside an example's hub copied almost nothing (its skeleton runs in the
+    hub disc), so the gap completion laid ground across the primary there and the line-contrast
+    restoration painted a flat bar over it: pale and dark bands across a coral's arms every
+    ``lambda 2 s`` (issue 23, branching116; :mod:`._hub_image_check`, ten hub examples 256-768 px:
+    share of the arms' length with a bar 0.08-0.20 -> 0.00-0.02, the example's own 0.005-0.026).
+    With fewer than ``keep`` of the fragments left, the fragments whose centre is outside the disc
+    by half a disk radius are kept instead (else ``lib``).
+    """
+    from dataclasses import replace
+
+    if len(lib) == 0 or not hubs:
+        return lib
+    h = np.asarray([tuple(v)[:3] for v in hubs], float)
+    d = np.hypot(lib.center[:, 0, None] - h[None, :, 0], lib.center[:, 1, None] - h[None, :, 1])
+    clear = d - (HUB_OPAQUE + HUB_FEATHER) * h[None, :, 2]
+    for reach in (1.0, 0.5):
+        ok = np.all(clear > reach * lib.radius[:, None], axis=1)
+        if ok.all():
+            return lib
+        if ok.mean() >= keep:
+            return replace(lib, branch=lib.branch[ok], arc=lib.arc[ok], sign=lib.sign[ok], child=lib.child[ok],
+                           center=lib.center[ok], radius=lib.radius[ok])
+    return lib
+
+
 def _paste_hubs(canvas: np.ndarray, example: np.ndarray, ex_hubs, hubs, flat: bool = False) -> np.ndarray:
     """``canvas`` with the example's hub blob (hub ``i % len(ex_hubs)``) pasted on every hub of ``hubs``,
     scaled to its radius and feathered (:data:`HUB_OPAQUE`, :data:`HUB_FEATHER`).

@@ -133,7 +133,7 @@ def compose_piece(canvas: np.ndarray, covered: np.ndarray, piece: np.ndarray, va
                   origin, *, protect_canvas=None, protect_piece=None, method: str = "graphcut",
                   poisson: bool = True, anchored: bool = True,
                   anchor_weight: float = 10.0, screen: float = 0.0,
-                  solver: str = "direct") -> Composition | None:
+                  solver: str = "direct", neutral_canvas=None) -> Composition | None:
     """Compose ``piece`` (covering ``valid``) into ``canvas`` **in place**.
 
     Parameters
@@ -174,6 +174,11 @@ def compose_piece(canvas: np.ndarray, covered: np.ndarray, piece: np.ndarray, va
         or anchored with ``anchor_weight > 0``), conjugate gradients to a
         relative residual of 1e-3 (:mod:`~branchnb.core.poisson_cg`: within
         a grey level, several times faster on small pieces).
+    neutral_canvas : (h, w) bool ndarray, optional
+        Canvas pixels that do not constrain the photometric correction
+        either, without being pinned (the piece may still cut into them):
+        e.g. the old lines' soft edges, whose colour spread into a thin new
+        line faded it.
 
     Returns
     -------
@@ -197,6 +202,8 @@ def compose_piece(canvas: np.ndarray, covered: np.ndarray, piece: np.ndarray, va
     for name, w in (("anchor_weight", anchor_weight), ("screen", screen)):
         if not (np.isfinite(w) and 0 <= w <= 1e12):
             raise ValueError(f"{name} must be finite and in [0, 1e12], got {w}")
+    if neutral_canvas is not None and np.shape(neutral_canvas) != np.shape(valid):
+        raise ValueError(f"neutral_canvas must have valid's shape {np.shape(valid)}, got {np.shape(neutral_canvas)}")
     clip = _clip_window(origin, valid.shape, covered.shape)
     if clip is None:
         return None
@@ -231,6 +238,9 @@ def compose_piece(canvas: np.ndarray, covered: np.ndarray, piece: np.ndarray, va
     new = P
     kept = covA & ~take
     neutral = kept & protect_canvas[sub] if protect_canvas is not None else None
+    if neutral_canvas is not None:
+        extra = kept & neutral_canvas[sub]
+        neutral = extra if neutral is None else neutral | extra
     if poisson and kept.any() and (neutral is None or not np.array_equal(neutral, kept)):
         # Kept pixels are the Dirichlet boundary; neutral ones take the
         # piece's own value there (no correction injected from them).

@@ -25,7 +25,7 @@ inside the piece, when
 A ring of round parts round a hole (:func:`split_round_hole`) is cut from every notch of its
 outline to the corner of the hole it faces (strokes41).
 
-Measured (``/tmp`` scripts of strokes41; parts == letters with both shares > 0.9): 17 words
+Measured (session scripts of strokes41, not kept; parts == letters with both shares > 0.9): 17 words
 (HAM MOON FERN GO MAPLE WAVE TREES NEW MAX WIND ZOOM KNOW M W N K A) in Hershey duplex at
 256 / 512 / 768 px and simplex and triplex at 256 / 768 px, 119 cases, 84 -> 92 exact and
 none worse: "MOON" (6 parts, 0.53-0.55 -> 4 parts, 0.99) and "ZOOM" at 512 / 768 px. Rings of
@@ -33,7 +33,7 @@ none worse: "MOON" (6 parts, 0.53-0.55 -> 4 parts, 0.99) and "ZOOM" at 512 / 768
 -> 6 parts (agreement 0.50 -> 0.69), 1.15 apart at 768 px 1 -> 6 (0.24 -> 0.59), none worse.
 Letters whose join shows no notch (a "Z" and an "O" at 256 px) stay one part.
 
-dendrite46 (``/tmp/dendrite46/measure.py``: rings of 6 / 8 / 10 bumpy beads 1.2 / 1.5 / 1.8
+dendrite46 (rings of 6 / 8 / 10 bumpy beads 1.2 / 1.5 / 1.8
 radii apart spanning 0.9 / 0.6 / 0.4 of the picture, 2 x 2 and 3 x 3 clusters 1.15-1.8 radii
 apart, at 256 / 512 / 768 px; exact == as many parts as beads and agreement > 0.6). Beads
 under ``OUTLINE_MIN_PART`` of the picture are cut at a floor of

@@ -40,7 +40,9 @@ class _MaskSteps:
     ``band_claimed`` per exemplar the pixels of the band's colour (in its own pixels) the removal of a
     layer above took outside that layer's mask, and those the layers above took, which the band takes
     back where they join it or lie across it (``claimed``/``crossed`` of
-    :func:`~branchnb.leaves.margin_band.band_rim`; None: none).
+    :func:`~branchnb.leaves.margin_band.band_rim`; None: none);
+    ``crossing`` the share of the training leaf's outline band its layer covers
+    (:func:`~branchnb.leaves.analysis_trim.band_crossing`; None: not read yet).
     """
 
     user: np.ndarray
@@ -63,6 +65,7 @@ class _MaskSteps:
     band_coloured: list | None = None
     band_reach: int = 0
     band_claimed: list | None = None
+    crossing: float | None = None
 
 
 #: An exemplar without its own colour model chooses its own ``delta`` against its own ridge pixels
@@ -118,7 +121,7 @@ def _exemplar_mask(steps: _MaskSteps, e: int, combined_e, delta: float, tr_iou: 
     """
     from .analysis_combine import COLOUR_RELIABLE, _induced, _over_induced, colour_alone
     from .analysis_own import _own_delta
-    from .analysis_trim import _trimmed
+    from .analysis_trim import _trimmed, band_crossing
     from .own_contrast import trim_by_contrast, without_blobs
     s, t = steps, steps.t
     if e == t:
@@ -184,8 +187,10 @@ def _exemplar_mask(steps: _MaskSteps, e: int, combined_e, delta: float, tr_iou: 
         # mask trimmed lost width on wider veins (trilobed 400 px: 0.88 -> 0.78, see Notes).
         m = trimmed if s.own_px[e] is not None or _RIDGE_DELTA != 2 else before | (trimmed & ~before)
     if s.snapped is not None:
+        if s.crossing is None:
+            s.crossing = band_crossing(s.blades[t], s.user)
         m = _trimmed(m, blade, s.user, s.snapped[e], s.zones[e], s.rims[e], outline_in_layer=s.outline_in_layer,
-                     inked_outline=s.inked_outline)
+                     inked_outline=s.inked_outline, crossing=s.crossing)
     if s.coloured is not None and s.coloured[e] is not None:
         from .induction_scatter import refine_edges
         m = refine_edges(m, s.coloured[e], blade & ~taken_e)

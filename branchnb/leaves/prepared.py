@@ -26,7 +26,7 @@ from .flatart import _layer_lines, _replace_from_blade, drawn_outline, flat_art
 from .leftover import flatten_leftover, layer_strength, own_lines, parallel_lines
 
 # The steps' helpers, one module each; every name importable from here as before.
-from .prepared_fill import _SOFT_RIM, _bleed, _completed, _smooth_fill, _soft_rim, _stored, _without_knobs  # noqa: F401
+from .prepared_fill import _SOFT_RIM, _bleed, _clear_of, _completed, _smooth_fill, _soft_rim, _stored, _without_knobs  # noqa: F401
 from .prepared_layers import (  # noqa: F401
     _SPECK_SIDE,
     _completeness,
@@ -258,7 +258,7 @@ class _Prepared(_PetioleSteps):
                         # The layer's ridge extension comes back with it (see _removed_extension).
                         mk = mk | ext
                         under = _smooth_fill(np.asarray(self.stage[k][e], np.float32)[..., :3],
-                                             a.blades[e] & ~_binary_dilation(mk, iterations=2))
+                                             _clear_of(a.blades[e], mk))
                     us.append(_stored(under))
                 else:
                     us.append(self.under[k + 1][e])

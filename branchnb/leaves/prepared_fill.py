@@ -61,8 +61,9 @@ def _completed(img: np.ndarray, blade: np.ndarray, mask: np.ndarray, reach: int 
     """A layer's mask completed by the pixels beside it that stand out as the layer does, and the leaf under it.
 
     Going beyond the paper (whose layers are pasted as induced). The leaf
-    without the layer is estimated by filling the mask (grown by 2 px)
-    smoothly from the blade around it (:func:`_smooth_fill`); every pixel
+    without the layer is estimated by filling the mask (grown by 2 px, less
+    for a dense layer: :func:`_clear_of`) smoothly from the blade around it
+    (:func:`_smooth_fill`); every pixel
     within ``reach`` px of the mask whose difference from that estimate
     is at least half the layer's median difference (projected on the
     layer's median colour contrast) joins the mask, and the estimate is
@@ -86,7 +87,7 @@ def _completed(img: np.ndarray, blade: np.ndarray, mask: np.ndarray, reach: int 
     procedural families unchanged (0.007-0.010).
     """
     img = np.asarray(img, np.float32)[..., :3]
-    under = _smooth_fill(img, blade & ~_binary_dilation(mask, iterations=2))
+    under = _smooth_fill(img, _clear_of(blade, mask))
     diff = img - under
     d = np.median(diff[mask], axis=0)
     dn = float((d ** 2).sum())
@@ -99,7 +100,40 @@ def _completed(img: np.ndarray, blade: np.ndarray, mask: np.ndarray, reach: int 
         grown = _without_knobs(grown, mask)
     if grown.sum() == mask.sum():
         return mask, under
-    return grown, _smooth_fill(img, blade & ~_binary_dilation(grown, iterations=2))
+    return grown, _smooth_fill(img, _clear_of(blade, grown))
+
+
+#: Least share of the blade outside a layer's mask that the leaf under the layer is read from
+#: (:func:`_clear_of`). Procedural elliptic leaves at 96 px, seed 1 (veins about 2 px wide, 2-4 px
+#: apart, half the blade): 2 px clear of the veins left 1-11 % of the blade outside them, and the
+#: fill from it was 0.02-0.07 (mean abs. RGB) off the leaf without its veins (the true blade colour
+#: filled from 1 px clear of the true veins); 1 px clear left 19-38 % and 0.005-0.036 off.
+_UNDER_SUPPORT = 0.15
+
+
+def _clear_of(blade: np.ndarray, mask: np.ndarray) -> np.ndarray:
+    """The blade pixels the leaf under layer ``mask`` is read from: 2 px clear of it, nearer when too few.
+
+    Beyond the paper. 2 px leaves a layer's anti-aliased rim out; a dense
+    layer (the veins of a 96-px leaf, half its blade, 2-4 px apart) leaves
+    almost no blade 2 px clear of it, and the fill from the few pixels
+    left (the 10 px of 1546 between two vein ends) was no colour of the
+    blade: once the mask had grown by what stood out against it, nothing
+    was left, the leaf under the veins came out 0.1 darker than the true
+    one, and the veins pasted as their ratio to it turned new leaves pale
+    (blade mean (0.56, 0.74, 0.30) against the exemplars' 0.47-0.49 red,
+    0.61-0.64 green). The nearest of 2, 1 and 0 px that leaves
+    :data:`_UNDER_SUPPORT` of the blade outside the mask is taken.
+    """
+    blade = np.asarray(blade, bool)
+    mask = np.asarray(mask, bool)
+    outside = blade & ~mask
+    need = _UNDER_SUPPORT * int(outside.sum())
+    for r in (2, 1):
+        known = blade & ~_binary_dilation(mask, iterations=r)
+        if known.sum() >= need and known.any():
+            return known
+    return outside
 
 
 def _without_knobs(grown: np.ndarray, mask: np.ndarray) -> np.ndarray:

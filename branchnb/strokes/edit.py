@@ -36,6 +36,7 @@ from ..core.random import as_rng
 from ..core.validate import Seq, Shape, checked
 from .attachment import _align_exits, _carried_parts, _centred_pairs, _under_parent, _with_pins
 from .display import draw_strokes
+from .elbows import add_elbow_pins
 from .fetch import _fetch, sample_pair
 from .junctions import attach, find_junctions, stroke_order
 from .outline import outline_style
@@ -702,6 +703,7 @@ def fetch_patches(image, source_strokes, target_strokes, params: StrokeEditParam
     order = stroke_order(len(pairs), junctions)
     if index.has_alpha:
         _align_exits(index, pairs, attached, junctions)
+    elbows = add_elbow_pins(pairs, attached, window, _mirrored)
     carried = _carried_parts(index, pairs, attached, window) if params.unstroked == "follow" else []
     for i in range(len(pairs)):
         pins = sorted({(index.parts[pi].s, s_t) for j, pi, s_t in carried
@@ -718,6 +720,8 @@ def fetch_patches(image, source_strokes, target_strokes, params: StrokeEditParam
         mirror = _mirrored(pairs[i], window)
         radius_of, step_of = _sampling_geometry(params, index, i, pair)
         smp = sample_pair(pair, step_of, window=window)
+        if i in elbows:  # an elbow's sample is free to move (global sampling): see elbows.add_elbow_pins
+            smp.pinned[np.abs(smp.s - elbows[i]) < 1e-6] = False
         radii = radius_of(smp.s)
         fetched, offs = [], []
         for j in range(len(smp)):

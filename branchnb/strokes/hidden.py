@@ -17,7 +17,10 @@ from __future__ import annotations
 import numpy as np
 from scipy import ndimage as ndi
 
+from ..core.distance import edt as _edt
 from ..core.graphcut import gradient_magnitude
+from .attachment import _own_area
+from .outline import outline_style
 from .tubes import _tube_margin
 
 #: The other part's pixels grown by this much (px): its anti-aliased rim and outline go with it.
@@ -105,6 +108,13 @@ def _own_views(index, tubes: dict, keys: list, cuts: list, joined: list, window:
                     if sj <= reach_k or sj >= st.length - reach_k:
                         at_end.add(keys[j])
         for part in index.parts:
+            if part.over is not None and keys[part.stroke] == keys[k]:
+                # (a part hanging from this stroke hides it only where it lies over it)
+                sub = np.zeros((h, w), bool)
+                sub[part.box] = part.over
+                foreign |= sub[box]
+                causes.append((None, sub[box]))
+                continue
             # (a part hanging from a stroke joined at this one's end -- a flower's petals
             # round the head on its stem's tip -- lies where the joint is: no hiding there)
             if keys[part.stroke] == keys[k] or keys[part.stroke] in at_end:
@@ -238,3 +248,184 @@ def _refill(index, k: int, box, hidden: np.ndarray, clean: np.ndarray, window: f
     filled = np.zeros_like(hidden)
     filled[rs[found], cs[found]] = True
     return filled, acc[found].astype(np.float32), accd[found].astype(np.float32)
+
+
+#: Colour distance (straight RGB in [0, 1]) from the stroke's own look (filled in from farther
+#: along it) above which a pixel of its tube next to a part hanging from it is that part's.
+_OVER_DIFF = 0.2
+#: ... and within this of one of the part's own colours (its flesh, its outline).
+_OVER_OWN = 0.2
+#: Least share of those pixels that look like the part for it to lie over the stroke.
+_OVER_SHARE = 0.5
+#: Disk (radius 2 px) closing the gap where the part's outline meets the stroke's.
+_DISK = np.hypot(*np.mgrid[-2:3, -2:3]) <= 2.0
+#: Least pixels of the part deep in the stroke's flesh (within :data:`_DEEP` of its half width).
+_OVER_DEEP = 4
+#: A part's outline ink crossing the stroke's flesh (inside the stroke's own outline) in at
+#: least this many px is drawn over the stroke (a flower's leaf over its stem at 200 px: 10-20 px).
+_OVER_INK = 4
+#: ... else its flesh's median colour this far (RGB) from the stroke's (a cherry's red over a brown twig).
+_OVER_COLOUR = 0.2
+#: Colour distance (RGB) within which a pixel is the outline's ink.
+_OVER_INKED = 0.1
+
+
+#: :func:`_parts_over`: a part more than this many times the area of the stroke's own piece is the
+#: rest of the object (the rope_loop sample's loop beside a stroked stretch of it: 110k px against
+#: the piece's 18k), not a part lying over the stroke; taken as one, the rope's stretch was refilled
+#: from farther along and its strands came out 1.4 times as long (notebook 05's sampling figure).
+_OVER_MOST_AREA = 2.0
+
+
+def _parts_over(index, tubes: dict, keys: list, cuts: list, joined: list, window: float = 3.0) -> None:
+    """Give every part lying over the stroke it hangs from the pixels of its that the
+    stroke's tube claimed (``Part.over``; ``Part.mask`` and ``index.part_mask`` grow by them).
+
+    A leaf drawn over its stem with its base across the stem: the stem's tube
+    (bridged over the leaf, see :func:`~branchnb.strokes.tubes._without_side_bumps`)
+    holds the leaf's base, its outline across the stem. The stem's patches copied
+    it along the bent stem and the carried leaf, cut at the tube, came out
+    tucked behind the stem (the stem's outline across the leaf's base). Here the
+    stroke's own look at its tube's pixels round the part is filled in from
+    farther along it (:func:`_refill`); the pixels that differ from it by over
+    :data:`_OVER_DIFF`, joined to the part, most of them within :data:`_OVER_OWN`
+    of one of the part's own colours and some deep in the stroke's flesh (at
+    least :data:`_OVER_DEEP` px), with the holes they close round the part's
+    flesh, are the part's: it carries them over the stroke (the stroke sees its
+    own flesh there, :func:`_own_views`). A part drawn under the stroke leaves
+    the stroke's look as it is: nothing is taken. A part whose outline does
+    not cross the stroke's flesh and whose flesh is of the stroke's colour (a
+    piece of a striped body the stroke's tube cut off) is none. Beyond the paper.
+    Measured on procedural scenes (flower, cherries on a twig,
+    an arm over a body; 200 / 400 / 800 px, 2 seeds, bowed both ways): the
+    share of the joint's overlap showing the part, source 1.00, went from 0.72
+    (worst 0.31) to 0.93 (worst 0.73) on the flower, 0.88 to 0.90 on the
+    others; parts drawn under stay under (0.00-0.05, unchanged).
+    """
+    h, w = index.shape
+    by_key: dict = {}
+    for pi, part in enumerate(index.parts):
+        if part.contact and not part.at_end and not part.body and part.tip is None \
+                and part.area <= _OVER_MOST_AREA * _own_area(index, part.stroke):
+            by_key.setdefault((keys[part.stroke], cuts[part.stroke]), []).append(pi)
+    if not by_key:
+        return
+    rgb = index.premult[..., :3] / np.maximum(index.premult[..., 3:], 1e-6)
+    style = outline_style(index.premult, index.depth)
+    if style is not None:
+        colour, width = np.asarray(style.colour, np.float32), float(style.width)
+    for key, pis in by_key.items():
+        k = index.parts[pis[0]].stroke
+        d, s_map, tube, interior, endw, core = tubes[key]
+        rows, cols = np.nonzero(d < 1e5)
+        if not len(rows):
+            continue
+        box = (slice(rows.min(), rows.max() + 1), slice(cols.min(), cols.max() + 1))
+        db, sb = d[box], s_map[box]
+        ws, we = index.width_s[k], np.asarray(index.edge[k], float)
+        # the stroke's own pixels (no other stroke's tube, not past its ends)
+        zone = core[box] & interior[box] & (endw[box] > 0.5)
+        for okey, tb_o in tubes.items():
+            if okey[0] != key[0]:
+                zone &= ~tb_o[5][box]
+        near = np.zeros(zone.shape, bool)
+        masks = {}
+        for pi in pis:
+            part = index.parts[pi]
+            # the tube's pixels within its width across of the part (on the part's box grown by that)
+            reach = 2.0 * float(np.interp(part.s, ws, we)) + 3.0
+            g = int(np.ceil(reach)) + 1
+            r0, r1 = max(part.box[0].start - g, box[0].start), min(part.box[0].stop + g, box[0].stop)
+            c0, c1 = max(part.box[1].start - g, box[1].start), min(part.box[1].stop + g, box[1].stop)
+            if r0 >= r1 or c0 >= c1:
+                continue
+            m = np.zeros((r1 - r0, c1 - c0), bool)
+            a0, a1 = max(part.box[0].start, r0), min(part.box[0].stop, r1)
+            b0, b1 = max(part.box[1].start, c0), min(part.box[1].stop, c1)
+            m[a0 - r0:a1 - r0, b0 - c0:b1 - c0] = part.mask[a0 - part.box[0].start:a1 - part.box[0].start,
+                                                            b0 - part.box[1].start:b1 - part.box[1].start]
+            if not m.any():
+                continue
+            loc = (slice(r0 - box[0].start, r1 - box[0].start), slice(c0 - box[1].start, c1 - box[1].start))
+            masks[pi] = (loc, m)
+            near[loc] |= zone[loc] & (_edt(~m) <= reach)
+        for loc, m in masks.values():
+            near[loc] &= ~m
+        if not near.any():
+            continue
+        mine = index.allowed[k][box] & (index.weight[k][box] > 0.5)
+        clean = zone & ~ndi.binary_dilation(near | index.part_mask[box] | ~mine, iterations=_CLEAR)
+        edge_b = np.interp(sb, ws, we)
+        got = _refill(index, k, box, near, clean, window, ws, we)
+        if got is None:
+            continue
+        filled = got[0]
+        look = np.zeros((*zone.shape, 4), np.float32)
+        look[filled] = got[1]
+        look[..., :3] /= np.maximum(look[..., 3:], 1e-6)
+        src = rgb[box]
+        diff = filled & (np.linalg.norm(src - look[..., :3], axis=-1) > _OVER_DIFF)
+        if style is not None:
+            ink = (np.linalg.norm(src - colour, axis=-1) <= _OVER_INKED) & (index.premult[box][..., 3] > 0.5)
+            look_ink = np.linalg.norm(look[..., :3] - colour, axis=-1) <= _OVER_INKED  # (look: alpha 1 inside)
+        else:
+            ink, look_ink = None, np.zeros(zone.shape, bool)
+        for pi, (loc, mb) in masks.items():
+            part = index.parts[pi]
+            df, nr, sl = diff[loc], near[loc], src[loc]
+            # (joined across the ink the two outlines share where the part's leaves the stroke's)
+            lab, _ = ndi.label(ndi.binary_closing(df | mb, structure=_DISK) & (nr | mb), structure=np.ones((3, 3)))
+            joins = np.unique(lab[mb])
+            over = df & np.isin(lab, joins[joins > 0])
+            if not over.any():
+                continue
+            # most of them look like the part (its flesh or its outline), not like the stroke
+            solid = mb & (index.premult[box][loc][..., 3] > 0.5)
+            own = sl[solid]
+            if len(own) > 256:
+                own = own[np.linspace(0, len(own) - 1, 256).astype(int)]
+            dist = np.min(np.linalg.norm(sl[over][:, None] - own[None], axis=-1), axis=1)
+            if (dist <= _OVER_OWN).mean() < _OVER_SHARE:
+                continue
+            # and the part is drawn over the stroke: its outline crosses the stroke's flesh (ink
+            # inside the stroke's own outline where the stroke shows none), or its flesh is of
+            # another colour than the stroke's (a piece of a striped body the stroke's tube cut
+            # off differs from the stripes filled in, yet is neither)
+            if ink is not None:
+                inner = over & ink[loc] & ~look_ink[loc] & (db[loc] < edge_b[loc] - width - 0.5)
+                drawn = int(inner.sum()) >= _OVER_INK
+            else:
+                drawn = False
+            if not drawn:
+                flesh = solid & ~ink[loc] if ink is not None else solid
+                theirs = filled[loc] & ~look_ink[loc]
+                drawn = bool(flesh.any() and theirs.any()) and float(np.linalg.norm(
+                    np.median(sl[flesh], axis=0) - np.median(look[loc][theirs][:, :3], axis=0))) > _OVER_COLOUR
+            if not drawn:
+                continue
+            # the holes they close round the part's flesh (flesh of the stroke's colour under it)
+            over |= ndi.binary_fill_holes(ndi.binary_closing(over | mb, structure=_DISK) | mb) & nr & ~mb
+            if int((over & (db[loc] <= _DEEP * edge_b[loc])).sum()) < _OVER_DEEP:
+                continue
+            _give(part, over, (slice(box[0].start + loc[0].start, box[0].start + loc[0].stop),
+                               slice(box[1].start + loc[1].start, box[1].start + loc[1].stop)), index)
+
+
+def _give(part, over: np.ndarray, box: tuple, index) -> None:
+    """``part`` grown by ``over`` (pixels on ``box``): ``Part.over``, ``mask``, ``base``, ``box``."""
+    h, w = index.shape
+    rs, cs = np.nonzero(over)
+    r0 = min(part.box[0].start, box[0].start + int(rs.min()))
+    r1 = max(part.box[0].stop, box[0].start + int(rs.max()) + 1)
+    c0 = min(part.box[1].start, box[1].start + int(cs.min()))
+    c1 = max(part.box[1].stop, box[1].start + int(cs.max()) + 1)
+    big = (slice(r0, r1), slice(c0, c1))
+    full = np.zeros((h, w), bool)
+    full[box] = over
+    new_over = full[big]
+    mask = np.zeros(new_over.shape, bool)
+    base = np.zeros(new_over.shape, bool)
+    at = (slice(part.box[0].start - r0, part.box[0].stop - r0), slice(part.box[1].start - c0, part.box[1].stop - c0))
+    mask[at], base[at] = part.mask, part.base
+    part.box, part.mask, part.base, part.over = big, mask | new_over, base & ~new_over, new_over
+    index.part_mask[big] |= new_over

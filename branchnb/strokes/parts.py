@@ -122,6 +122,12 @@ class Part:
     body : bool
         The body the stroke grows out of (see :func:`carry_frame`): it is
         moved with the stroke's start, never turned by it.
+    over : (h, w) bool ndarray or None
+        Its pixels (within ``box``, also in ``mask``) lying over the
+        stroke it hangs from, taken from that stroke's tube (a leaf's base
+        drawn across its stem, see
+        :func:`~branchnb.strokes.hidden._parts_over`); None: it lies over
+        none.
     """
 
     box: tuple
@@ -137,6 +143,7 @@ class Part:
     ends: list = field(default_factory=list)
     tip: tuple | None = None
     body: bool = False
+    over: np.ndarray | None = None
 
 
 def find_parts(alpha: np.ndarray, inked: np.ndarray, claimed: np.ndarray, cores: list,

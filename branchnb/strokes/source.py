@@ -67,7 +67,7 @@ from ..core.distance import edt as _edt
 from ..core.graphcut import gradient_magnitude  # the edge strength G of the seam energy
 from ..core.image import as_rgba
 from ..core.validate import Array, Int, Real, checked
-from .hidden import _own_views
+from .hidden import _own_views, _parts_over
 from .outline import outline_style
 from .parts import add_bases, find_parts
 from .strokes import Stroke
@@ -658,6 +658,7 @@ def source_index(image, source_strokes: list[Stroke], *, patch_size: float = 0.0
                         side_width=side_width)
     add_bases(parts, index, window=3.0)
     if has_alpha:
+        _parts_over(index, tubes, keys, cuts, joined)
         index.views = _own_views(index, tubes, keys, cuts, joined, by=index.hidden_by)
         for k, (_, _, _, filled) in index.views.items():
             # (identical strokes share these arrays: the same pixels either way)

@@ -310,16 +310,21 @@ def _straight_trunk_mix(image: np.ndarray, exemplars: Sequence[Exemplar], source
 def _exemplar_facets(exemplar: Exemplar):
     """:func:`~branchnb.trees.lowpoly.facet_palette` of an exemplar's crown (cached on it)."""
     if "facets" not in exemplar._cages:
-        from .lowpoly import facet_palette
+        from .lowpoly import SMOOTH_BLUR, SMOOTH_BLUR_MOST, facet_palette
 
         # an outlined crown (tiers of a drawn fir) keeps its ink; its thin ring is too small for a
         # facet region and would join the fills beside it
         # (and a sticker's die-cut border, rebuilt by sticker.py)
         from .sticker import _exemplar_border
 
+        # an enlarged source resampled smoothly (not pixel art, kept nearest) has its facet edges
+        # blurred over more than one of its pixels
+        pixel = _source_pixel(exemplar)
+        if pixel > 1.0 and getattr(getattr(exemplar, "normalized", None), "pixel_art", None) is None:
+            pixel = min(pixel * SMOOTH_BLUR, pixel + SMOOTH_BLUR_MOST)
         exemplar._cages["facets"] = (None if exemplar_outline(exemplar).outlined or _exemplar_border(exemplar)
                                      is not None else facet_palette(exemplar.image, exemplar.trunk,
-                                                                     pixel=_source_pixel(exemplar)))
+                                                                     pixel=pixel))
     return exemplar._cages["facets"]
 
 

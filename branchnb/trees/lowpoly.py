@@ -72,7 +72,7 @@ width off; an outer outline whose polygon keeps under :data:`SLIVER_KEEP` of its
 distance taken at half the tolerance (its corner counts are not, so a thin crescent still
 multiplies its corners as a curve). A smoothly shaded crown (a photo, an airbrushed fir) cut by
 the 1/64 quantisation into bands one step apart is no faceted crown (:data:`GRADIENT_SHARE`).
-Figures (``/tmp/trees58/evallib.py``: 180 procedural low-poly trees per size, 3 facet counts,
+Figures (a session script, trees58: 180 procedural low-poly trees per size, 3 facet counts,
 5 palettes, anti-aliased or hard, round/cone/tall, through a ``TreeLibrary`` of that size; 71
 controls: sample photos and RPG trees, synthetic, drawn, sticker, sprite, clip-art, cel and
 painterly trees, curved fills): found at 64/96/128/200/256 px 55/67/77/80/81 -> 78/96/97/90/87;
@@ -80,6 +80,24 @@ controls taken 4/8/8/6/2 -> 4/5/5/4/1, none new (the shaded plain tree, poplar a
 no longer; still taken: flat-dab painterly crowns at 64-128 px, an unoutlined pixel-art palm at
 200-256 px and an unoutlined anti-aliased cel tree at 200 px, and outlined trees, which the
 mixes leave out before asking).
+
+Enlarged sources and painterly crowns (trees60): a ``TreeLibrary`` enlarges a source smaller than
+its working size bicubically, which blurs every facet edge over 1.5-2 of the source's pixels and
+rings at it, so the flat cores lose a ragged 1-2 px. An enlarged (not pixel-art) source is judged
+with ``pixel`` :data:`SMOOTH_BLUR` times its source pixel (at most :data:`SMOOTH_BLUR_MOST` more;
+``flat_art``). A painterly crown of small flat dabs (each dab too small for a region) was cut into its
+few regions' Voronoi cells and passed as facets: a crown with more than :data:`FLAT_FAR` of its pixels
+farther than :data:`FLAT_REACH` of the drawing's pixels from any flat region, or with more than
+:data:`MAX_SHADES` shades, is not faceted. Figures (the trees58 sets: 180
+procedural low-poly trees per size through a ``TreeLibrary``, 71 controls): found at 64/96/128/200/256
+px 78/96/97/90/87 -> 84/104/121/128/134; controls taken 4/5/5/4/1 -> 1/1/3/7/3, painterly none
+(before 3/3/3/0/0); all new ones outlined (which the mixes leave out), still taken an unoutlined
+pixel-art palm at 200-256 px and cel tree at 200 px. A second set (a generator of straight cuts lit per
+cell, sources drawn at 0.6-1.6 times the size; controls: round and stroke dabs, watercolour, photo-like,
+sprites, stickers): found at 64/96/128 px 41/47/50 -> 42/48/54 of 65, controls 1/5/2 -> 0/0/0 of 19.
+A larger tolerance also loses a few crowns whose thin facets it collapses (2 of 12 at 200 px, while
+it finds 2 others). Mixes: at 96 px the redraw of now-found libraries
+merges thin facets (2-4 px wide) into blobs (left as is: the redraw did so on main too).
 
 Crowns with curved fills (cel shading, clumps, cartoon leaves), outlined
 or bordered crowns (an ink or sticker ring is no polygon) and pixel art are
@@ -109,6 +127,10 @@ __all__ = ["facet_palette", "straighten_facets", "MIN_FACETS", "MAX_CORNERS"]
 MIN_FACETS = 4
 #: Least number of distinct shades (farther apart than :data:`SHADE_TOL`) of a faceted crown.
 MIN_SHADES = 3
+#: Most distinct shades of a faceted crown (trees60): low-poly crowns of 4 palettes and continuous
+#: shading through a ``TreeLibrary`` at 96-256 px 3-11, painterly dab crowns 35-50 (one colour a
+#: dab); one hue shaded over its whole range gives at most 1/SHADE_TOL = 25.
+MAX_SHADES = 16
 #: Colours of the facet regions closer than this (largest channel difference) are one shade.
 SHADE_TOL = 0.04
 #: Most corners (after :data:`CORNER_TOL` simplification) of a facet polygon.
@@ -166,6 +188,19 @@ SLIVER_KEEP = 0.8
 #: 0-0.47 (continuously shaded facets), shaded photo crowns (plain tree, poplar, evergreen) 0.71-1.
 GRADIENT_SHARE = 0.6
 GRADIENT_STEP = 2.0 / 64
+#: Share of a crown's pixels farther than :data:`FLAT_REACH` of the drawing's pixels from every flat
+#: region above which it is no faceted crown (trees60): the anti-aliased steps between facets lie
+#: within 1-2 px of a facet, a painterly crown's dabs are mostly too small for a region.
+FLAT_FAR = 0.25
+FLAT_REACH = 2.5
+#: A source enlarged smoothly (bicubic) to the working size has its facet edges blurred over about
+#: this many of its own pixels: ``pixel`` of :func:`facet_palette` for it (trees60; ``TreeLibrary``
+#: crowns at 64/96/128/200/256 px found 78/96/97/90/87 -> 84/104/121/128/134 of 180 at 1.5,
+#: 87/106/115/132/155 at 1.8 with more controls taken at 200 px) ...
+SMOOTH_BLUR = 1.5
+#: ... but at most this many working pixels more (a source enlarged 3 times: its small facets
+#: vanish under a 13 px tolerance).
+SMOOTH_BLUR_MOST = 0.7
 #: Supersampling of the redrawn polygons (their edges anti-aliased as the sources').
 _SUPER = 4
 
@@ -398,6 +433,9 @@ def facet_palette(image, trunk=None, *, pixel: float = 1.0) -> np.ndarray | None
     (:data:`SLIVER_KEEP`), and a crown whose neighbouring regions are mostly one quantisation step
     apart (a smooth gradient's bands, :data:`GRADIENT_SHARE`) is not faceted.
 
+    Beyond trees58 (trees60): a crown mostly out of reach of its flat regions (:data:`FLAT_FAR`) or
+    of more than :data:`MAX_SHADES` shades (painterly dabs) is not faceted.
+
     Examples
     --------
     >>> import numpy as np, cv2
@@ -423,8 +461,14 @@ def facet_palette(image, trunk=None, *, pixel: float = 1.0) -> np.ndarray | None
     if n < MIN_FACETS:
         return None
     # every crown pixel to its nearest region: the anti-aliased steps belong to their facets
-    _, (iy, ix) = ndi.distance_transform_edt(lab == 0, return_indices=True)
+    gap, (iy, ix) = ndi.distance_transform_edt(lab == 0, return_indices=True)
     near = lab[iy, ix]
+    # ... but only steps: a crown mostly out of reach of any flat region (small painterly dabs,
+    # each too small for a region) would be cut into the flat regions' Voronoi cells, polygons
+    ys, xs = np.nonzero(crown)
+    unit = max(float(pixel), max(np.ptp(ys), np.ptp(xs)) / STRAIGHT_REF)
+    if (gap[crown] > FLAT_REACH * unit).mean() > FLAT_FAR:
+        return None
     whole = np.where(crown, near, 0)
     ids = np.arange(n + 1)
     cols = np.stack([ndi.mean(img[..., c], lab, ids) for c in range(3)], axis=1)
@@ -439,8 +483,6 @@ def facet_palette(image, trunk=None, *, pixel: float = 1.0) -> np.ndarray | None
     # tolerances in the drawing's own units: its pixel, or for a large drawing a share of the
     # crown's size (a big low-poly crown has facets as big, meeting at shallow corners a few px
     # off the chord that a fixed pixel tolerance would take for a curve's)
-    ys, xs = np.nonzero(crown)
-    unit = max(float(pixel), max(np.ptp(ys), np.ptp(xs)) / STRAIGHT_REF)
     stats = {}
     for j, sl in enumerate(ndi.find_objects(whole), 1):
         if sl is not None and not good[j]:
@@ -464,7 +506,9 @@ def facet_palette(image, trunk=None, *, pixel: float = 1.0) -> np.ndarray | None
     pal = np.unique(np.round(cols[good] * _QUANT) / _QUANT, axis=0).astype(np.float32)
     # at least MIN_SHADES shades apart: a two-tone drawing (a fir lit from one side) resampled
     # splits each fill at the quantisation's steps into near twins, no low-poly palette
-    if len(_shades(pal)) < MIN_SHADES:
+    shades = len(_shades(pal))
+    # ... and at most MAX_SHADES: a painterly crown's dabs each take their own colour
+    if shades < MIN_SHADES or shades > MAX_SHADES:
         return None
     return pal
 

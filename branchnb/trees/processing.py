@@ -24,6 +24,7 @@ from ..core.io import encode_png
 from ..core.render import draw_polylines
 from ..core.validate import Array, Int, checked
 from .contour import ContourParams, TreeContour, simplify_contour, stem_trunk_mask, tree_contour
+from .detached_trunk import _join_detached_trunk
 from .exemplar import (
     ContourSet,
     ExemplarParams,
@@ -32,7 +33,7 @@ from .exemplar import (
     normalize_exemplar,
     tree_rgba,
 )
-from .ground import _join_detached_trunk, split_ground
+from .ground import split_ground
 from .translucent import from_working_alpha, to_working_alpha, translucent_level
 
 __all__ = ["Exemplar", "exemplar_trunk", "process_exemplar", "TRUNK_METHODS", "GROUND_METHODS"]
@@ -153,7 +154,8 @@ class Exemplar:
             If ``trunk`` is not an (S, S) mask.
         """
         t = as_mask(trunk, shape=self.alpha.shape, name="trunk") & self.alpha
-        tc = tree_contour(self.contours.tree, self.alpha, t, self.contour.params)
+        tc = tree_contour(self.contours.tree, self.alpha, t, self.contour.params,
+                          corners=self.normalized.pixel_art is None)
         return Exemplar(self.name, self.image, t, self.contours, tc, self.normalized, source,
                         self.ground)
 
@@ -282,7 +284,7 @@ def process_exemplar(image, name: str = "", *, trunk_mask=None, trunk: str = "au
     under a round crown), would be dropped as a second region; a narrow,
     upright region under the crown's centre, at most 10 % of the tree's
     height below it, is drawn on up into the crown first
-    (:func:`~branchnb.trees.ground._join_detached_trunk`), while a sun, a
+    (:func:`~branchnb.trees.detached_trunk._join_detached_trunk`), while a sun, a
     ground disc, a leaf pile or a pebble is still dropped or cut.
 
     Beyond the paper: a translucent source (watercolour washes of alpha
@@ -343,5 +345,5 @@ def process_exemplar(image, name: str = "", *, trunk_mask=None, trunk: str = "au
     else:
         tmask, source = norm.warp_mask(trunk_mask) & norm.alpha, "mask"
     contours = extract_contours(norm.alpha)
-    tc = tree_contour(contours.tree, norm.alpha, tmask, cp)
+    tc = tree_contour(contours.tree, norm.alpha, tmask, cp, corners=norm.pixel_art is None)
     return Exemplar(str(name), norm.image, tmask, contours, tc, norm, source, cut)
