@@ -22,9 +22,8 @@ def _on_canvas(m, offset, shape, mirrored):
     return out[:, ::-1].copy() if mirrored else out
 
 
-def test_an_exemplar_whose_veins_sit_above_the_training_delta_keeps_its_secondaries(monkeypatch):
-    # Off by default until the drawn-leaf cases it moves are settled (see analysis_masks._RIDGE_DELTA).
-    monkeypatch.setattr(analysis_masks, "_RIDGE_DELTA", 2)
+def test_an_exemplar_whose_veins_sit_above_the_training_delta_keeps_its_secondaries():
+    assert analysis_masks._RIDGE_DELTA == 2  # on by default
     size = 192
     fam = leaf_family(3, size=size, kind="trilobed", rng=3)
     t = 2
@@ -44,7 +43,7 @@ def test_an_exemplar_whose_veins_sit_above_the_training_delta_keeps_its_secondar
     assert min(spots[:2]) >= 0.9
 
 
-def _steps(own_px=None):
+def _steps(own_px=None, zones=None):
     blade = np.zeros((60, 60), bool)
     blade[5:55, 5:55] = True
     user = np.zeros_like(blade)
@@ -55,11 +54,10 @@ def _steps(own_px=None):
     ridge[21:40, 30] = True                      # a side vein: its own ridge pixels
     n = [None, None]
     return blade, snapped, ridge, _MaskSteps(user, [blade, blade], 0, [None, snapped], [None, snapped], n,
-                                             [None, own_px], [None, ridge], n, n, False, False)
+                                             [None, own_px], [None, ridge], [None, zones], n, False, False)
 
 
-def test_own_ridge_pixels_choose_the_delta_beside_them(monkeypatch):
-    monkeypatch.setattr(analysis_masks, "_RIDGE_DELTA", 2)
+def test_own_ridge_pixels_choose_the_delta_beside_them():
     blade, snapped, ridge, steps = _steps()
     combined = np.full(blade.shape, 0.8, np.float32)
     combined[20, 8:52] = 0.1                     # the main vein under the training delta
@@ -74,3 +72,27 @@ def test_own_ridge_pixels_choose_the_delta_beside_them(monkeypatch):
     combined[21:40, 30] = 0.2
     m2, c2 = _exemplar_mask(steps, 1, combined, 0.3, 0.8, np.zeros_like(blade), lambda e: None)
     assert c2 is None and m2[21:40, 30].all() and not m2[45].any()
+
+
+def test_ridges_that_are_no_layer_keep_the_training_delta():
+    # Ridges far above the training delta (a painted-out blade's noise ridges, 6.2x; a plain-fill
+    # drawing's ink outline, 2.4x) or on a drawn exemplar (an ink outline zone: its ridges hold its
+    # outline) leave the delta as it was.
+    blade, snapped, ridge, steps = _steps()
+    combined = np.full(blade.shape, 0.8, np.float32)
+    combined[20, 8:52] = 0.1
+    combined[21:40, 30] = 0.35
+    flat = np.zeros(blade.shape, np.float32)
+    m, _ = _exemplar_mask(steps, 1, combined, 0.3, 0.8, np.zeros_like(blade), lambda e: flat)
+    assert m[21:40, 30].all()
+    combined[21:40, 30] = 0.65                   # beyond RIDGE_RAISE_MAX (2) x delta
+    combined[blade & (combined > 0.7)] = 0.9
+    m, _ = _exemplar_mask(steps, 1, combined, 0.3, 0.8, np.zeros_like(blade), lambda e: flat)
+    assert not m[21:40, 30].any() and m[20, 10:50].all()
+    combined[blade & (combined > 0.7)] = 0.8     # in reach again, but on an exemplar with an ink outline zone
+    combined[21:40, 30] = 0.35
+    zone = np.zeros_like(blade)
+    zone[5:8] = True
+    _, _, _, steps = _steps(zones=(zone, 3.0))
+    m, _ = _exemplar_mask(steps, 1, combined, 0.3, 0.8, np.zeros_like(blade), lambda e: flat)
+    assert not m[21:40, 30].any()

@@ -69,10 +69,15 @@ class _MaskSteps:
 
 
 #: An exemplar without its own colour model chooses its own ``delta`` against its own ridge pixels
-#: (:func:`_exemplar_mask`): 2 what that adds is trimmed by contrast, 1 the whole mask is (worse at
-#: 400 px), 0 (default, as before leaves89) the training leaf's ``delta`` alone there. Off until the
-#: drawn-leaf tests it moves are settled (see Notes of :func:`_exemplar_mask`).
-_RIDGE_DELTA = 0
+#: (:func:`_exemplar_mask`): 2 (default) what that adds is trimmed by contrast, 1 the whole mask is
+#: (worse at 400 px), 0 (as before leaves89) the training leaf's ``delta`` alone there.
+_RIDGE_DELTA = 2
+
+#: The own ``delta`` at the ridge pixels is taken only up to this many times the training leaf's:
+#: procedural leaves' veins raised it 1.03-1.28x (4 kinds, 160-400 px, 11 exemplars); ridges that
+#: are no layer 2.4x (a plain-fill drawn maple's ink outline, its veins not drawn) and 6.2x (a blade
+#: with its veins painted out: noise ridges).
+RIDGE_RAISE_MAX = 2.0
 
 
 def _contrast_map(lab_t, lab_e, steps: _MaskSteps, e: int) -> np.ndarray:
@@ -114,10 +119,13 @@ def _exemplar_mask(steps: _MaskSteps, e: int, combined_e, delta: float, tr_iou: 
     under 0.7 4 -> 0, none lower by 0.001; spots 0.927 either way. Trimming the whole raised mask instead
     (``_RIDGE_DELTA`` 1; 234 exemplars, seeds 0-3): mean 0.767 -> 0.804, under 0.7 22 -> 0, but 400 px
     veins lost width (trilobed 400 px mean 0.808 -> 0.785, one exemplar 0.884 -> 0.779).
-    Off by default (:data:`_RIDGE_DELTA` 0): on (2), six leaves tests fail (drawn leaves' one outline and
-    one vein system, a plain-fill maple's outline share 0.056 > 0.05, the ridge extension kept 31 < 50 px,
-    the leaf app's non-structural warning, the threads test's pinned masks of main, lobed exemplar 1
-    IoU 0.73 with them): the drawn leaves' ridge pixels are not their veins as on the procedural ones.
+    Where the exemplar's ridge pixels are no layer it keeps the training leaf's ``delta`` (leaves93;
+    measured on the exemplar itself): where an ink outline zone was found on it (a drawn leaf: its
+    ridges hold its outline, and what the raise added drew the removal's ridge extension onto the ink,
+    54 ink pixels left inside a drawn lobed leaf's background), and where its own ``delta`` would be over
+    :data:`RIDGE_RAISE_MAX` times the training leaf's (procedural veins 1.03-1.28x; a blade with its
+    veins painted out 6.2x, its noise ridges made the layer structural; a plain-fill drawn maple's ink
+    outline 2.4x).
     """
     from .analysis_combine import COLOUR_RELIABLE, _induced, _over_induced, colour_alone
     from .analysis_own import _own_delta
@@ -159,8 +167,11 @@ def _exemplar_mask(steps: _MaskSteps, e: int, combined_e, delta: float, tr_iou: 
         m = m | (own & np.isin(lab, keep[keep > 0]))
     # An exemplar read with the training colour model chooses its own delta against its own ridge
     # pixels (see Notes).
-    own_px = s.own_px[e] if s.own_px[e] is not None or _RIDGE_DELTA == 0 else s.ridge_px[e]
+    own_px = s.own_px[e] if s.own_px[e] is not None or _RIDGE_DELTA == 0 or s.zones[e] is not None \
+        else s.ridge_px[e]
     d_e = _own_delta(combined_e, delta, own_px, blade)
+    if s.own_px[e] is None and d_e > RIDGE_RAISE_MAX * delta:
+        d_e = delta
     raised = d_e > delta and not over
     before = m
     if raised:
