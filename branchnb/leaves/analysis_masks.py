@@ -125,7 +125,10 @@ def _exemplar_mask(steps: _MaskSteps, e: int, combined_e, delta: float, tr_iou: 
     54 ink pixels left inside a drawn lobed leaf's background), and where its own ``delta`` would be over
     :data:`RIDGE_RAISE_MAX` times the training leaf's (procedural veins 1.03-1.28x; a blade with its
     veins painted out 6.2x, its noise ridges made the layer structural; a plain-fill drawn maple's ink
-    outline 2.4x).
+    outline 2.4x). On by default since leaves93: ``_measure_secondary`` seed 0 (4 kinds, 192 / 256 /
+    400 px, each leaf as the training leaf; 68 exemplars): vein IoU mean 0.773 -> 0.805, min 0.633 ->
+    0.721, under 0.7 5 -> 0, none lower by 0.001, spots within 0.008; ``_measure_unseen`` willow /
+    cordate / oak 400 px within 0.009; ``_measure_drawn`` clip art (10 cases): the same masks.
     """
     from .analysis_combine import COLOUR_RELIABLE, _induced, _over_induced, colour_alone
     from .analysis_own import _own_delta
