@@ -35,7 +35,9 @@ def test_removed_ridge_extension_comes_back_with_the_layer(trilobed):
         assert ext is not None and ext.sum() > 0.2 * core.sum()
         assert p.layer_ext[0][e] is not None
         kept = np.asarray(p.layer_ext[0][e], np.float32) > 0.5
-        assert kept.sum() > 50 and not (kept & ~ext).any()
+        # 31-158 px: the exemplars' own delta at their ridge pixels induces more of their veins (exemplar 1
+        # IoU 0.780 -> 0.819), so less is left for the extension (125 -> 31 px; before it > 50 px)
+        assert kept.sum() > 20 and not (kept & ~ext).any()
         assert (np.asarray(p.layer_masks[0][e], np.float32) > 0.5)[kept].mean() >= 0.99
 
 
