@@ -309,8 +309,10 @@ def _parts_over(index, tubes: dict, keys: list, cuts: list, joined: list, window
     along, lands the stroke's rim a pixel off, and a fern's pinna took a strip
     of the rachis's rim between two knobs (laid again stair-stepped, dark
     specks). Measured on the strokes tests' fern edit (300 / 600 / 900 px, 3
-    seeds): new dark pixels at untouched pinna roots 0-202 (sum 19-202) ->
-    3-19; pixels changed there 31-289 -> 15-63; the scenes above unchanged.
+    seeds; windows round the six untouched pinna roots): new dark pixels
+    15-203 -> 2-19, pixels changed 31-313 -> 6-63 (at 900 px 153-203 -> 2-3;
+    what is left is there with no part taken at all); the scenes above and
+    the other objects of the strokes tests unchanged.
     """
     h, w = index.shape
     by_key: dict = {}
