@@ -93,6 +93,13 @@ INLAND_SHARE = 1.0
 #: length lies > 8 % of the short side from every example line (bound 0.2; 4 seeds: mean 0.13 -> 0.15 with
 #: both rules), and the storm bolts' profile correlation drops to 0.96 in one seed (bound 0.97).
 CHILD_RADIUS_HISTOGRAM = False
+#: A child's head is scaled to start at its parent's radius there times the fork ratio of the input child
+#: it was copied from (:func:`head_fork_ratios`; beyond the paper, issue 23, branching122), not at the
+#: head's own radius (capped at the parent's). The histogram factor favours the many thin heads, so
+#: children of thick parents started as twigs: winter-tree silhouettes' two biggest limbs came out a
+#: median 0.51 x the example's (128-512 px, seeds 0-5). False = the head's own radii. Not in a delta
+#: (:meth:`_Starts._channel_start`).
+CHILD_FORK_RATIO = True
 
 
 #: A delta's fork ratio (:func:`fork_ratios`): a channel's radius is measured from this many of its parent's
@@ -154,6 +161,51 @@ def fork_ratios(example) -> np.ndarray:
             q = small / big
             out.append(min(q, 1.0 / q))
     return np.asarray(out, np.float64)
+
+
+def head_fork_ratios(model) -> np.ndarray:
+    """Per input branch (head), the radius its head starts at over its parent's at its fork (beyond the
+    paper, issue 23, branching122; :data:`CHILD_FORK_RATIO`).
+
+    The head's start radius is the largest of its first three radii (as a child's head is capped in
+    synthesis), the parent's that at the child's parent vertex; the ratio is clipped to (0, 1] (a child
+    starts no thicker than its parent). NaN for a root or a branch whose fork has no positive radius.
+
+    Parameters
+    ----------
+    model : StructureModel
+        A fitted model (its ``example``, ``bending.heads``, ``first_r`` and ``first_len``).
+
+    Returns
+    -------
+    (B,) float ndarray
+        One ratio per branch of ``model.example``.
+
+    Examples
+    --------
+    >>> from branchnb.core.structure import Branch, Structure
+    >>> from branchnb.branching import fit_model
+    >>> trunk = Branch(np.c_[np.full(60, 50.0), np.arange(120, 0, -2.0)], np.linspace(4, 2, 60))
+    >>> kid = Branch(np.c_[np.arange(50, 110, 2.0), np.linspace(80, 40, 30)], np.linspace(2, 1, 30), 0, 20)
+    >>> q = head_fork_ratios(fit_model(Structure([trunk, kid])))
+    >>> bool(np.isnan(q[0])), bool(0.4 < q[1] <= 1.0)
+    (True, True)
+    """
+    ex = model.example
+    out = np.full(len(ex.branches), np.nan)
+    for i, b in enumerate(ex.branches):
+        if b.parent is None or b.parent_vertex is None or i >= len(model.bending.heads):
+            continue
+        pr = np.broadcast_to(np.asarray(ex.branches[int(b.parent)].thickness, np.float64),
+                             (len(ex.branches[int(b.parent)].points),))
+        if not len(pr):
+            continue
+        rp = float(pr[min(int(b.parent_vertex), len(pr) - 1)])
+        hd = model.bending.heads[i]
+        rc = max(hd["r0"], hd["r1"], *(model.first_r[i, :1] if model.first_len[i] > 0 else ()))
+        if rp > 0 and rc > 0 and np.isfinite(rp) and np.isfinite(rc):
+            out[i] = min(rc / rp, 1.0)
+    return out
 
 
 def _elem_bins(model) -> np.ndarray:
@@ -519,6 +571,11 @@ class _Starts:
             f = r_set / max(max(radii[:3]), 1e-9)
             radii = [max(r * f, model.r_min) for r in radii]
             er = radii[2:]
+        q = self._head_ratio(hd) if parent is not None and r_cap is not None and r_set is None else None
+        if q is not None:   # the parent's radius there x the input child's fork ratio (CHILD_FORK_RATIO)
+            f = r_cap * q / max(max(radii[:3]), 1e-9)
+            radii = [max(r * f, model.r_min) for r in radii]
+            er = radii[2:]
         if r_cap is not None:
             f = min(1.0, r_cap / max(max(radii[:3]), 1e-9))
             if f < 1.0:
@@ -599,6 +656,17 @@ class _Starts:
         side_h = float(pf[0] * heading[1] - pf[1] * heading[0])
         side_b = float(pf[0] * fan[1] - pf[1] * fan[0])
         return side_h * side_b < 0.0
+
+    def _head_ratio(self, hd: int) -> float | None:
+        """The fork ratio a child copying input head ``hd`` starts at (:data:`CHILD_FORK_RATIO`,
+        :func:`head_fork_ratios`); None: off, in a delta, or the head has none."""
+        if not CHILD_FORK_RATIO or self.drain is not None:
+            return None
+        q = self.__dict__.get("_head_ratios")
+        if q is None:
+            q = self.__dict__["_head_ratios"] = head_fork_ratios(self.model)
+        v = float(q[hd]) if 0 <= hd < len(q) else np.nan
+        return v if np.isfinite(v) else None
 
     def _channel_start(self, r_parent: float) -> float | None:
         """A delta's new channel's start radius at a fork where its parent is ``r_parent`` thick (beyond the
