@@ -37,9 +37,10 @@ def test_turned_tentacles_leave_no_wedge_in_the_head():
 def test_curled_and_straightened_tentacles_keep_their_outline_whole(seed):
     img, src, tgt, ow = oct_edit("oct_lead", 500, seed)
     r = touch_measure(img, edit_structure(img, src, tgt).image, ow)
-    # main: crack 14 / 3, dots 2 / 55
+    # main: crack 14 / 3, dots 2 / 55; seed 1 was 30, 31 since the typical radius is taken over the
+    # strokes the edit touches (strokes48: patches 33 -> 29 px), the same trail of dots
     assert r["crack"] <= 1, r
-    assert r["dots"] <= 30, r
+    assert r["dots"] <= 32, r
     assert r["fleck"] == 0, r
 
 

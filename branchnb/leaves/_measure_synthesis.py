@@ -7,7 +7,8 @@ saved with :mod:`pickle`, e.g. of the sample maples, drawn oaks or grass
 photos). Every row is one analysis; the columns:
 
 * ``sharp``: Laplacian variance of the grey level inside the new blades
-  (eroded by 3 px), over the exemplars' mean (target >= 0.8);
+  (eroded by 3 px; on drawn leaves without the outline ink grown by 3 px,
+  :func:`outline_ink`), over the exemplars' mean (target >= 0.8);
 * ``iou_new`` / ``iou_ex``: median pairwise blade IoU of the new leaves and
   of the exemplars (target ``iou_new <= iou_ex + 0.05``);
 * ``cut``: share of new leaves the canvas edge cuts (target 0);
@@ -27,7 +28,16 @@ photos). Every row is one analysis; the columns:
   known): the same share as ``vein_cont``, on the skeleton of the donor's
   *true* veins at most 3 px wide (:func:`fine_veins`, whether or not the
   induction found them), against the donor's median contrast there;
-  ``fine_min`` the worst new leaf (the exemplars' own: ``fine_ex``).
+  ``fine_min`` the worst new leaf (the exemplars' own: ``fine_ex``);
+* ``ghost``: one vein system (procedural families): ridge response of the
+  new leaves at their background exemplar's *true* veins carried into
+  the lamina, farther than 2 px from the vein donor's true veins and its pasted
+  layer, over plain blade at the same distances from those
+  (:func:`ghost_ratio`, pixel-weighted over the new leaves; target <= 1:
+  nothing of the background's own vein system shows); ``ghost_max`` the
+  worst new leaf, ``ghost_px`` the pixels it is read on (a few dozen at
+  128 px, where the two leaves' veins mostly lie within 2 px of each
+  other: there it is noise).
 """
 
 from __future__ import annotations
@@ -42,20 +52,45 @@ import cv2
 import numpy as np
 from scipy import ndimage as ndi
 
-__all__ = ["laplacian_variance", "median_pair_iou", "petiole_angle", "margin_foreign_share",
-           "vein_continuity", "fine_veins", "synthesis_row"]
+__all__ = ["laplacian_variance", "outline_ink", "median_pair_iou", "petiole_angle", "margin_foreign_share",
+           "vein_continuity", "fine_veins", "ghost_ratio", "synthesis_row"]
 
 
 def _grey(img):
     return np.ascontiguousarray(np.asarray(img, np.float32)[..., :3].mean(-1))
 
 
-def laplacian_variance(img, blade, erode: int = 3) -> float:
-    """Variance of the Laplacian of the grey level inside ``blade`` eroded by ``erode`` px."""
+def laplacian_variance(img, blade, erode: int = 3, exclude=None) -> float:
+    """Variance of the Laplacian of the grey level inside ``blade`` eroded by ``erode`` px.
+
+    ``exclude``: pixels left out besides (e.g. a drawn outline, :func:`outline_ink`), or None.
+    """
     inner = ndi.binary_erosion(blade, iterations=erode)
+    if exclude is not None:
+        inner &= ~exclude
     if not inner.any():
         return float("nan")
     return float(np.var(cv2.Laplacian(_grey(img), cv2.CV_32F)[inner]))
+
+
+def outline_ink(img, blade, flat, grow: int = 3):
+    """A drawn leaf's outline ink, grown by ``grow`` px (what :func:`laplacian_variance` leaves out).
+
+    Pixels within 0.25 (RGB) of ``flat.outline_colour`` (a
+    :class:`branchnb.leaves.flatart.FlatArt`) and within twice its width
+    plus 2 px of the boundary of ``blade``. The outline of a new drawn leaf
+    is drawn anew along its boundary, and where its ink lies against the
+    alpha mask differs by a pixel between an exemplar (whose blade holds the
+    outline's anti-aliased outer rim) and a new leaf; eroded by 3 px only,
+    the blade of drawn oaks kept the ink's inner edge in the exemplars and
+    not in the new leaves, and the Laplacian variance ratio read 0.25
+    for blades whose veins were as sharp as the exemplars'.
+    """
+    rgb = np.asarray(img, np.float32)[..., :3]
+    near = np.linalg.norm(rgb - np.asarray(flat.outline_colour, np.float32), axis=-1) < 0.25
+    reach = int(np.ceil(2 * flat.outline_width)) + 2
+    band = blade & ~ndi.binary_erosion(blade, iterations=reach)
+    return ndi.binary_dilation(near & band, iterations=grow)
 
 
 def median_pair_iou(blades) -> float:
@@ -129,16 +164,47 @@ def fine_veins(veins, width: float = 3.0):
     return sk & (2.0 * dt - 1.0 <= width)
 
 
+def ghost_ratio(img, bg_veins, donor, spots=None):
+    """Ridge response of ``img`` at ``bg_veins`` apart from ``donor`` over plain blade as far from it.
+
+    ``bg_veins``: the background exemplar's true veins carried into the new
+    leaf; ``donor``: the vein donor's true veins and pasted layer carried
+    the same way; ``spots``: spots to leave out (or None). Pixels of
+    ``bg_veins`` farther than 2 px from ``donor`` and ``spots``, inside the
+    lamina (:func:`branchnb.leaves.registration.split_petiole`) eroded by
+    3 px, over plain blade (4 px from every vein and spot)
+    weighted to the same distances from ``donor``
+    (:func:`branchnb.leaves._measure.vein_system_scores`' ``bg_own``).
+    Returns ``(ratio, pixels)``; ratio NaN when no pixel is left.
+    """
+    from ._measure import _distance_matched, _ridge
+    from .registration import split_petiole
+    blade = np.asarray(img)[..., 3] > 0.5
+    lam, _, base = split_petiole(blade)
+    # The lamina only: the pasted petiole is another exemplar's, and the background's veins carried by the
+    # lamina's maps past the base lay along its rims (fan leaves: every pixel the column counted).
+    blade = ndi.binary_erosion(lam if base is not None and lam.any() else blade, iterations=3)
+    sp = np.zeros(blade.shape, bool) if spots is None else spots
+    away = ~ndi.binary_dilation(donor | sp, iterations=2)
+    at = blade & bg_veins & away
+    plain = blade & away & ~ndi.binary_dilation(bg_veins | sp, iterations=4)
+    if not at.any() or not plain.any():
+        return float("nan"), 0
+    r = _ridge(img)
+    return _distance_matched(r, at, plain, ndi.distance_transform_edt(~donor)), int(at.sum())
+
+
 def _skeleton(mask):
     from skimage.morphology import skeletonize
     return skeletonize(np.asarray(mask, bool))
 
 
 def synthesis_row(a, n_new: int = 6, seed: int = 0, name: str = "", save: str | None = None,
-                  truth=None) -> dict:
+                  truth=None, spots=None) -> dict:
     """Every column of the module docstring for one analysis ``a`` and ``n_new`` new leaves.
 
-    ``truth``: the exemplars' true vein masks (analysis frame) for the ``fine`` columns, or None.
+    ``truth``: the exemplars' true vein masks (analysis frame) for the ``fine`` and ``ghost`` columns, or
+    None; ``spots``: their true spot masks (left out of ``ghost``), or None.
     """
     from . import synthesis
     from .synthesis import _canvas_coords, _prepared, generate
@@ -171,8 +237,9 @@ def synthesis_row(a, n_new: int = 6, seed: int = 0, name: str = "", save: str | 
         synthesis.generate_leaf = orig_leaf
     sec = (time.process_time() - t0) / n_new
     ex, bl = a.exemplars, a.blades
-    lv_ex = np.nanmean([laplacian_variance(e, b) for e, b in zip(ex, bl)])
-    lv_new = np.nanmean([laplacian_variance(x.image, x.blade) for x in leaves])
+    ink = (lambda img, b: outline_ink(img, b, p.flat)) if p.flat is not None else (lambda img, b: None)
+    lv_ex = np.nanmean([laplacian_variance(e, b, exclude=ink(e, b)) for e, b in zip(ex, bl)])
+    lv_new = np.nanmean([laplacian_variance(x.image, x.blade, exclude=ink(x.image, x.blade)) for x in leaves])
     cut = np.mean([max(x.image[..., 3][0].max(), x.image[..., 3][-1].max(), x.image[..., 3][:, 0].max(),
                        x.image[..., 3][:, -1].max()) >= 0.5 for x in leaves])
     ang_ex = [petiole_angle(b) for b in bl]
@@ -205,6 +272,31 @@ def synthesis_row(a, n_new: int = 6, seed: int = 0, name: str = "", save: str | 
                 continue
             carried = cv2.remap(L.masks[d].astype(np.float32), c[..., 0], c[..., 1], cv2.INTER_LINEAR) > 0.5
             cont.append(vein_continuity(x.image, x.blade, _skeleton(carried), tgt[d]))
+    ghost, ghost_n = [], []
+    if truth is not None and vk is not None:
+        from ._measure import _apply_coords
+        name_v = a.layers[vk].name
+        for x, calls_x in zip(leaves, coords):
+            if not calls_x:
+                continue
+            bg_e, cbg = calls_x[0]
+            d = x.layers.get(name_v, -1)
+            c = next((c for e, c in calls_x[1:] if e == d), None)
+            donor = np.zeros(bl[0].shape, bool)
+            if d >= 0 and c is not None:
+                donor = _apply_coords(truth[d], c, 0.25) | _apply_coords(
+                    p.layer_masks[vk][d].astype(np.float32), c, 0.25)
+            sp = None
+            if spots is not None:
+                sp = _apply_coords(spots[bg_e], cbg)
+                d_s = x.layers.get("spots", -1)
+                cs = next((c for e, c in calls_x[1:] if e == d_s), None)
+                if cs is not None:
+                    sp = sp | _apply_coords(spots[d_s], cs, 0.25)
+            v, k = ghost_ratio(x.image, _apply_coords(truth[bg_e], cbg), donor, sp)
+            if k:
+                ghost.append(v)
+                ghost_n.append(k)
     fine, fine_ex = [], []
     if truth is not None and vk is not None:
         fv = [fine_veins(t) & ndi.binary_erosion(b, iterations=3) for t, b in zip(truth, bl)]
@@ -233,7 +325,10 @@ def synthesis_row(a, n_new: int = 6, seed: int = 0, name: str = "", save: str | 
                 vein_cont_ex=float(np.nanmean(cont_ex)) if cont_ex else float("nan"),
                 fine=float(np.nanmean(fine)) if fine else float("nan"),
                 fine_min=float(np.nanmin(fine)) if fine else float("nan"),
-                fine_ex=float(np.nanmean(fine_ex)) if fine_ex else float("nan"), cpu_s=sec)
+                fine_ex=float(np.nanmean(fine_ex)) if fine_ex else float("nan"),
+                ghost=float(np.average(ghost, weights=ghost_n)) if ghost else float("nan"),
+                ghost_max=float(np.nanmax(ghost)) if ghost else float("nan"), ghost_px=int(sum(ghost_n)),
+                cpu_s=sec)
 
 
 def _procedural(kind, size, seed, n=4, with_truth=False):
@@ -242,7 +337,7 @@ def _procedural(kind, size, seed, n=4, with_truth=False):
     fam, truth, kps, shape = _family_on_canvas(kind, size, n, seed)
     regs = [_TrueRegistration(k, kps[0], shape) for k in kps]
     a = analyze(fam, 0, {"veins": fam[0].layers["veins"], "spots": fam[0].layers["spots"]}, registrations=regs)
-    return (a, [t["veins"] for t in truth]) if with_truth else a
+    return (a, [t["veins"] for t in truth], [t["spots"] for t in truth]) if with_truth else a
 
 
 def speed(size: int = 1000, n: int = 2):
@@ -272,7 +367,9 @@ def _print(r):
     print(f"{r['name']:<22} sharp {r['sharp']:.2f}  iou new {r['iou_new']:.2f} ex {r['iou_ex']:.2f}  "
           f"cut {r['cut']:.2f}  pet_dev {r['pet_dev']:5.1f}  foreign {r['foreign']:.3f} (ex {r['foreign_ex']:.3f})  "
           f"vein_cont {r['vein_cont']:.2f} min {r['vein_cont_min']:.2f} (ex {r['vein_cont_ex']:.2f})  "
-          f"fine {r['fine']:.2f} min {r['fine_min']:.2f} (ex {r['fine_ex']:.2f})  {r['cpu_s']:.2f} s/leaf", flush=True)
+          f"fine {r['fine']:.2f} min {r['fine_min']:.2f} (ex {r['fine_ex']:.2f})  "
+          f"ghost {r.get('ghost', np.nan):.2f} max {r.get('ghost_max', np.nan):.2f} ({r.get('ghost_px', 0)} px)  "
+          f"{r['cpu_s']:.2f} s/leaf", flush=True)
 
 
 def main(argv=None):
@@ -283,6 +380,7 @@ def main(argv=None):
     ap.add_argument("--n", type=int, default=6)
     ap.add_argument("--sizes", default="192,320")
     ap.add_argument("--seeds", type=int, default=2)
+    ap.add_argument("--kinds", default="lobed,trilobed,elliptic,fan")
     ap.add_argument("--save", default=None, help="folder for a PNG row of the new leaves per analysis")
     args = ap.parse_args(argv)
     if args.what == "speed":
@@ -294,12 +392,12 @@ def main(argv=None):
         name = args.path.rsplit("/", 1)[-1].split(".")[0]
         _print(synthesis_row(a, args.n, name=name, save=f"{args.save}/{name}.png" if args.save else None))
         return
-    for kind in ("lobed", "trilobed", "elliptic", "fan"):
+    for kind in args.kinds.split(","):
         for size in (int(s) for s in args.sizes.split(",")):
             for seed in range(args.seeds):
-                a, truth = _procedural(kind, size, seed, with_truth=True)
+                a, truth, spots = _procedural(kind, size, seed, with_truth=True)
                 name = f"{kind}_{size}_{seed}"
-                _print(synthesis_row(a, args.n, name=name, truth=truth,
+                _print(synthesis_row(a, args.n, name=name, truth=truth, spots=spots,
                                      save=f"{args.save}/{name}.png" if args.save else None))
 
 

@@ -18,7 +18,7 @@ does, and prints one row:
   renderings): ridge response at the background's true veins in the new
   leaf over that of the same leaf built on the background's vein-free
   rendering (1: nothing of the background's veins left);
-* ``sharp``, ``iou_new``/``iou_ex``, ``pet_dev``, ``cut``: from
+* ``sharp``, ``iou_new``/``iou_ex``, ``pet_dev``, ``cut``, ``ghost``: from
   :func:`branchnb.leaves._measure_synthesis.synthesis_row`;
 * ``t_an`` / ``t_gen``: CPU seconds of the analysis and per new leaf.
 
@@ -118,7 +118,8 @@ def run(kind: str, size: int, seed: int, n: int = 4, n_new: int = 6, save: str |
         return dict(name=f"{kind}_{size}_{seed}", blade=blade_iou, iou=ious, spot_iou=spot_iou, lam=L.lam,
                     t_an=t_an)
     t0 = time.process_time()
-    row = synthesis_row(a, n_new, truth=veins, name=f"{kind}_{size}_{seed}",
+    row = synthesis_row(a, n_new, truth=veins, spots=spots if leaves[0].spots.any() else None,
+                        name=f"{kind}_{size}_{seed}",
                         save=f"{save}/{kind}_{size}_{seed}_new.png" if save else None)
     t_gen = time.process_time() - t0
     vs = vein_system_scores(a, veins, spots if leaves[0].spots.any() else None,
@@ -127,7 +128,7 @@ def run(kind: str, size: int, seed: int, n: int = 4, n_new: int = 6, save: str |
                 bg_rel=float(np.nanmean([v["bg_rel"] for v in vs])),
                 own_rel=float(np.nanmean([v["own_rel"] for v in vs])),
                 sharp=row["sharp"], iou_new=row["iou_new"], iou_ex=row["iou_ex"], pet_dev=row["pet_dev"],
-                cut=row["cut"], t_an=t_an, t_gen=t_gen / n_new)
+                cut=row["cut"], ghost=row["ghost"], t_an=t_an, t_gen=t_gen / n_new)
 
 
 def _sheet(a, veins, path):
@@ -157,6 +158,7 @@ def _print(r):
           f"{'spots ' + ' '.join(f'{v:.2f}' for v in r['spot_iou']) + '  ' if r['spot_iou'] else ''}"
           f"lam {r['lam']:.3f}  bg_rel {r['bg_rel']:.2f} own_rel {r['own_rel']:.2f}  sharp {r['sharp']:.2f}  "
           f"iou new {r['iou_new']:.2f} ex {r['iou_ex']:.2f}  pet_dev {r['pet_dev']:.1f} cut {r['cut']:.2f}  "
+          f"ghost {r['ghost']:.2f}  "
           f"analysis {r['t_an']:.1f} s, {r['t_gen']:.2f} s/leaf", flush=True)
 
 

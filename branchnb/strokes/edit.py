@@ -43,6 +43,7 @@ from .outline import outline_style
 from .sampling import candidate_offsets
 from .source import source_index
 from .strokes import StrokePair, make_pairs
+from .touched import _still_pairs, _typical_radius
 
 __all__ = ["FETCH_FIELDS", "EditPatches", "StrokeEditParams", "StrokeEditResult", "StrokeSamples",
            "compose_patches", "edit_structure", "fetch_patches"]
@@ -610,8 +611,7 @@ def _still_crossings(index, pairs):
     patches meet at the crossing, a smear of each one's texture (suckers'
     colour), where the source's own pixels were right. Beyond the paper.
     """
-    still = {k for k, p in enumerate(pairs) if p.source.points.shape == p.target.points.shape
-             and np.array_equal(p.source.points, p.target.points)}
+    still = _still_pairs(pairs)
     drop = [k for k in index.views if k in still and index.hidden_by.get(k) is not None
             and index.hidden_by[k] <= still]
     if not drop:
@@ -673,9 +673,7 @@ def fetch_patches(image, source_strokes, target_strokes, params: StrokeEditParam
         pairs = _centred_pairs(src_img, pairs, control_points, target_shape)
     index = _still_crossings(source_index(src_img, [p.source for p in pairs], patch_size=params.patch_size),
                              pairs)
-    typical = float(np.median(np.concatenate([
-        index.radius(k, np.linspace(0, p.source.length, 32), params.patch_size)
-        for k, p in enumerate(pairs)])))
+    typical = _typical_radius(index, pairs, params.patch_size)
     window = max(typical / 2.0, 2.0)  # chord half-length for the stroke directions
     tol = params.junction_tolerance if params.junction_tolerance > 0 else max(typical / 3.0, 2.0)
 
