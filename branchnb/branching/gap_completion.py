@@ -47,10 +47,10 @@ HUB_LINE_MARGIN = 3.0
 #: ``line_margin`` of every other example (:func:`_complete`; beyond the paper, issue 23): the same glow
 #: round free ends and junctions where the lines stand out strongly from their ground (light frost-like
 #: dendrites on a dark graded sky of my own, 256-512 px: fine ground blotchiness, std of a 2-px over a
-#: 16-px blur 2+ px off the lines, 0.0069-0.0115 -> 0.0027-0.0058, example 0.0013-0.0018); unchanged
-#: within noise on dark lines over light grounds (``_ground_texture_check`` spec 0.37-0.55 ->
-#: 0.39-0.50, ``_vessel_check`` halo and tip the same)
-LINE_MARGIN = 3.0
+#: 16-px blur 2+ px off the lines, 0.0069-0.0115 -> 0.0037-0.0087, example 0.0013-0.0018; 3 px gave
+#: 0.0027-0.0058 but kept neighbouring cracks' bits round a cracked mud's lines as specks, 10 -> 21);
+#: within noise on dark lines over light grounds (``_ground_texture_check``, ``_vessel_check``)
+LINE_MARGIN = 2.0
 #: hub examples: within ``HUB_LINE_MARGIN`` of a line, a canvas pixel differing from a new fragment by
 #: more than this share of the example's line contrast (in a channel) is no boundary of the fragment's
 #: gradient-domain correction (a line's edge against the other's ground; branching119, measured with
