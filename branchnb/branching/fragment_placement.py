@@ -16,7 +16,7 @@ import numpy as np
 
 from ..core.polyline import RigidTransform
 from .displacement import backward_map, displacement_field
-from .fragment_choice import _colour_costs, _Context, _source_windows, _target_window, _tip_penalty
+from .fragment_choice import _colour_costs, _Context, _source_windows, _target_window, _thin_penalty, _tip_penalty
 from .fragments import Fragment, FragmentLibrary, ShapeBank, choose_among_best, shape_vectors
 from .gap_blend import compose_patch
 from .skeleton_map import PixelMap
@@ -247,9 +247,11 @@ def _synthesize_fragments(ctx: _Context, pm_t: PixelMap, targets: list, shape, l
         S = bank.costs(q0, nu0, p.w_s)
         if tf.kind == "branch":
             S = S + _tip_penalty(sm_t, tf, lib_b, sm_s.lengths, free_start, free_end, free_t)
+        # thin lines take a like radius first (beyond the paper; .fragment_choice._thin_penalty)
+        rank = S + _thin_penalty(bank.mu, nu0)
         n_short = min(p.shortlist, len(S))
-        short = np.argpartition(S, n_short - 1)[:n_short] if n_short < len(S) else np.arange(len(S))
-        short = short[np.argsort(S[short], kind="stable")]
+        short = np.argpartition(rank, n_short - 1)[:n_short] if n_short < len(S) else np.arange(len(S))
+        short = short[np.argsort(rank[short], kind="stable")]
         rot, trans = bank.fit(short, q0)
         yy, xx = np.arange(size)[:, None], np.arange(size)[None, :]   # (broadcast: no full grids)
         disk = (xx + x0 - tf.center[0]) ** 2 + (yy + y0 - tf.center[1]) ** 2 <= R * R
@@ -259,7 +261,7 @@ def _synthesize_fragments(ctx: _Context, pm_t: PixelMap, targets: list, shape, l
         if p.w_c > 0 and cov_win.any():
             costs_c = _colour_costs(ctx, lib, short, rot, trans, tf, (x0, y0), size, disk,
                                     ex_win, cov_win, _crop(body, x0, y0, size, False))
-        j = choose_among_best(S[short] + p.w_c * costs_c, p.c, rng)
+        j = choose_among_best(rank[short] + p.w_c * costs_c, p.c, rng)
         pick = int(short[j])
         src = lib[pick]
         # the shortlist's closed-form alignment (what rigid_align gives, to rounding)

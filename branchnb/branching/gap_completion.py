@@ -44,6 +44,13 @@ PATCHWORK_PATCH = 0.5
 #: :mod:`._hub_image_check`, ten hub examples 256-768 px): 0.20-1.13 -> 0.09-0.25 (example 0.13-0.90;
 #: :func:`.radial._off_hubs` alone left about 0.5 on coral and neuron_dark 384 s1)
 HUB_LINE_MARGIN = 3.0
+#: ``line_margin`` of every other example (:func:`_complete`; beyond the paper, issue 23): the same glow
+#: round free ends and junctions where the lines stand out strongly from their ground (light frost-like
+#: dendrites on a dark graded sky of my own, 256-512 px: fine ground blotchiness, std of a 2-px over a
+#: 16-px blur 2+ px off the lines, 0.0069-0.0115 -> 0.0037-0.0087, example 0.0013-0.0018; 3 px gave
+#: 0.0027-0.0058 but kept neighbouring cracks' bits round a cracked mud's lines as specks, 10 -> 21);
+#: within noise on dark lines over light grounds (``_ground_texture_check``, ``_vessel_check``)
+LINE_MARGIN = 2.0
 #: hub examples: within ``HUB_LINE_MARGIN`` of a line, a canvas pixel differing from a new fragment by
 #: more than this share of the example's line contrast (in a channel) is no boundary of the fragment's
 #: gradient-domain correction (a line's edge against the other's ground; branching119, measured with
@@ -248,7 +255,7 @@ def _complete(out, ex: np.ndarray, regions: ExampleRegions, p, flat: bool, use_p
               domains=None, patchwork: float = 0.0, line_margin: float | None = None):
     """Gap completion of the fragments' canvas ``out`` (a ``_Canvas``, updated in place).
 
-    ``line_margin`` (px; None: the target's bodies ``out.body``, r + 1 px): the fragments' pixels
+    ``line_margin`` (px; None: ``LINE_MARGIN``): the fragments' pixels
     within ``r + line_margin`` of a target line are kept and are no boundary of the gaps' colour
     correction (their colour is not spread into the quilted ground: a line's soft edge glowed there,
     strongest round free ends where a fragment's disk stops at the tip; beyond the paper, issue 23).
@@ -291,7 +298,7 @@ def _complete(out, ex: np.ndarray, regions: ExampleRegions, p, flat: bool, use_p
         size = p.patch_size
         if patchwork > 0:
             size = int(2 * round(np.clip(PATCHWORK_PATCH * patchwork, p.patch_size, 3 * p.patch_size) / 2))
-        lines = body if line_margin is None else pm_t.core(1.0, line_margin)
+        lines = pm_t.core(1.0, LINE_MARGIN if line_margin is None else line_margin)
         kw = dict(patch_size=size, overlap=p.patch_overlap, protect=(lines & covered) | inner,
                   tolerance=p.completion_tolerance, forbid_weight=p.forbid_weight, min_free=p.min_free,
                   method=p.seams, poisson=use_poisson and not patchwork, anchored=p.anchors,

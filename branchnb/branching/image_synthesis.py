@@ -12,7 +12,9 @@ structure (the *target*, e.g. from :mod:`branchnb.branching.synthesis`),
    also get the colour cost ``C`` on the overlap with what is already
    synthesised, and one of the ``c`` lowest ``S + wC C`` is drawn.
    A target tip is never copied from a source end that runs into another
-   branch (no tip there).
+   branch (no tip there), and a target line under 1.5 px radius takes a
+   source line of a like radius first (beyond the paper:
+   :func:`.fragment_choice._thin_penalty`).
 2. **Displacement** (:mod:`.displacement`): a smooth bi-Laplacian field
    bends the fragment so that its skeleton and edges fall exactly on the
    target's.
