@@ -8,6 +8,8 @@ as a binary mask's levels, domain IoU with the land 0.16-0.34); every island get
 from its coast, and is covered like the example's (main: three islands at 512 px got 1140, 744 and 0 px
 of river for the example's 536, 562 and 597).
 """
+import os
+import sys
 from types import SimpleNamespace
 
 import numpy as np
@@ -17,7 +19,9 @@ from scipy import ndimage as ndi
 from branchnb.branching import example_domain, extract_structure, fit_model, synthesize_structure
 from branchnb.branching.backgrounds import is_binary
 from branchnb.branching.colonization import coverage_fraction
-from branchnb.core.render import coverage_polylines
+
+sys.path.insert(0, os.path.dirname(__file__))
+from branching_island_maps import ink_map  # noqa: E402
 
 WHITE_GREY_NAVY = ((0.98, 0.98, 0.96), (0.70, 0.72, 0.75), (0.05, 0.08, 0.35))
 SAND_BLUE_BLACK = ((0.93, 0.89, 0.76), (0.62, 0.80, 0.93), (0.0, 0.0, 0.0))
@@ -27,7 +31,6 @@ def _islands(size, seed, centres, r, colours, lw=2.0, n_rivers=6):
     """Round islands (centres as shares of ``size``, radius ``r`` px) with straight rivers from the coast
     towards the middle and a coast line, drawn ``lw`` px wide: ``(image, land labels, n islands)``."""
     rng = np.random.default_rng(seed)
-    land_c, sea_c, ink_c = colours
     yy, xx = np.mgrid[0:size, 0:size]
     land = np.zeros((size, size), bool)
     rivers = []
@@ -36,13 +39,7 @@ def _islands(size, seed, centres, r, colours, lw=2.0, n_rivers=6):
         for a in rng.uniform(0, 2 * np.pi, n_rivers):
             u = np.array([np.cos(a), np.sin(a)])
             rivers.append(np.linspace(c + 0.99 * r * u, c + 0.15 * r * u, 60))
-    img = np.empty((size, size, 3), np.float32)
-    img[:] = sea_c
-    img[land] = land_c
-    edge = land & ndi.binary_dilation(~land)
-    cov, _ = coverage_polylines((size, size), rivers, [np.full(len(p), lw) for p in rivers])
-    ink = np.maximum(cov, edge.astype(np.float32))
-    img = (img * (1 - ink[..., None]) + np.asarray(ink_c, np.float32) * ink[..., None]).astype(np.float32)
+    img = ink_map(land, rivers, colours, lw)
     lab, n = ndi.label(land)
     return img, lab, n
 

@@ -14,6 +14,9 @@ Here on small procedural maps (several sizes, line widths, colours and seeds): t
 thick stretch through the sea equals the one without it, and the closing used is the same as
 ``binary_closing`` with a disk and does not depend on the radius.
 """
+import os
+import sys
+
 import numpy as np
 import pytest
 from scipy import ndimage as ndi
@@ -21,8 +24,10 @@ from scipy import ndimage as ndi
 from branchnb.branching.drawing import drawing_style
 from branchnb.branching.output_regions import _disk_closing
 from branchnb.branching.skeleton_map import SkeletonMap
-from branchnb.core.render import coverage_polylines
 from branchnb.core.structure import Branch, Structure
+
+sys.path.insert(0, os.path.dirname(__file__))
+from branching_island_maps import ink_map  # noqa: E402
 
 
 def _two_islands(size, seed, lw, land_c, sea_c, ink_c):
@@ -39,13 +44,7 @@ def _two_islands(size, seed, lw, land_c, sea_c, ink_c):
         for a in rng.uniform(0, 2 * np.pi, 4):
             u = np.array([np.cos(a), np.sin(a)])
             rivers.append(np.linspace(c + 0.9 * r * u, c + 0.15 * r * u, 60))
-    img = np.empty((size, size, 3), np.float32)
-    img[:] = sea_c
-    img[land] = land_c
-    edge = land & ndi.binary_dilation(~land)
-    cov, _ = coverage_polylines((size, size), rivers, [np.full(len(p), lw) for p in rivers])
-    ink = np.maximum(cov, edge.astype(np.float32))
-    img = (img * (1 - ink[..., None]) + np.asarray(ink_c, np.float32) * ink[..., None]).astype(np.float32)
+    img = ink_map(land, rivers, (land_c, sea_c, ink_c), lw)
     branches = [Branch(p, np.full(len(p), lw / 2)) for p in rivers]
     # the strait runs between the two coasts, across the line joining the centres
     mid, gap = (c1 + c2) / 2, np.hypot(*(c2 - c1)) - 2 * r
