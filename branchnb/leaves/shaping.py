@@ -342,8 +342,13 @@ def _sample_line_at(img, under, c, where, ss: int = _LINE_SUPERSAMPLE):
     a second time. Drawn maples and elms with 1-2 px black veins
     (``python -m branchnb.leaves._measure_unseen --kinds
     maple-black-1,maple-black-2,elm-black-2 --sizes 256,400 --seeds 0,1``)
-    had SHARP_FIGURES of their exemplars' Laplacian variance inside the
-    blade with Lanczos; nearest neighbour kept it but beaded the lines.
+    had 0.72-0.93 of their exemplars' Laplacian variance inside the blade
+    with Lanczos (maple-black-1: 0.72-0.79), 0.88-1.00 drawn anew (maple-
+    black-1); nearest neighbour kept it but beaded the lines. Straight
+    1-2 px box-filtered lines turned by 0-23 degrees and shifted by a
+    fraction of a pixel (``tests/test_leaves_line_redraw.py``): Laplacian
+    variance 0.90 -> 1.01 of the same lines drawn at their new place,
+    mean absolute error to them 0.016 -> 0.0066.
     """
     ch = img.shape[2] if img.ndim == 3 else 1
     out = np.zeros(where.shape + (ch,), np.float32)
