@@ -312,6 +312,102 @@ def _sample_sharp_at(img, c, where):
 _LANCZOS_REACH = 5
 
 
+#: Sub-samples per side of an output pixel when a hairline is drawn anew (:func:`_sample_line_at`).
+_LINE_SUPERSAMPLE = 4
+
+#: Contrast (RGB distance to the leaf under the line) below which a pixel is not ink (:func:`_sample_line_at`).
+_LINE_MIN_CONTRAST = 0.05
+
+#: Percentile of the lines' peak contrasts taken as the ink's full contrast (:func:`_sample_line_at`).
+_LINE_FULL_PERCENTILE = 90.0
+
+
+def _sample_line_at(img, under, c, where, ss: int = _LINE_SUPERSAMPLE):
+    """Colours of a layer of 1-2 px ink lines at ``c`` on ``where``: each line drawn anew, not resampled.
+
+    ``img`` is the layer's stage image, ``under`` the same leaf without
+    the lines (the two differ by the ink alone). The line's profile
+    ``q = |img - under|`` is interpolated bicubically at ``ss`` x ``ss``
+    points of each output pixel (their source coordinates from the map's
+    local Jacobian); a point lies on the line where ``q`` is above half
+    its local peak (the 3 x 3 maximum: the line's full width at half
+    maximum, whatever its phase on the pixel grid), and the pixel's
+    coverage is the share of its points on the line. The pixel is
+    ``under`` (resampled smoothly) plus that coverage times the ink's
+    contrast at the line's peak pixel. The warp moves a line; it need not
+    resample its pixels.
+
+    Going beyond the paper (which leaves the resampling open): every
+    interpolation at a fractional offset filters an anti-aliased 1-px line
+    a second time. Drawn maples and elms with 1-2 px black veins
+    (``python -m branchnb.leaves._measure_unseen --kinds
+    maple-black-1,maple-black-2,elm-black-2 --sizes 256,400 --seeds 0,1``)
+    had 0.72-0.93 of their exemplars' Laplacian variance inside the blade
+    with Lanczos (maple-black-1: 0.72-0.79), 0.88-1.00 drawn anew (maple-
+    black-1); nearest neighbour kept it but beaded the lines. Straight
+    1-2 px box-filtered lines turned by 0-23 degrees and shifted by a
+    fraction of a pixel (``tests/test_leaves_line_redraw.py``): Laplacian
+    variance 0.90 -> 1.01 of the same lines drawn at their new place,
+    mean absolute error to them 0.016 -> 0.0066.
+    """
+    ch = img.shape[2] if img.ndim == 3 else 1
+    out = np.zeros(where.shape + (ch,), np.float32)
+    if not where.any():
+        return out
+    c = np.asarray(c, np.float32)
+    idx, px, py = _picks(c, where)
+    # The map's local Jacobian (per output pixel step in x and in y) places the sub-samples.
+    gx = np.gradient(c, axis=1).reshape(-1, 2)[idx]
+    gy = np.gradient(c, axis=0).reshape(-1, 2)[idx]
+    reach = _LANCZOS_REACH + int(np.ceil(float(np.abs(gx).max() + np.abs(gy).max())))
+    img3 = np.asarray(img, np.float32).reshape(img.shape[:2] + (ch,))
+    both = np.concatenate([img3, np.asarray(under, np.float32).reshape(img.shape[:2] + (-1,))[..., :ch]], -1)
+    both, off = _source_box(both, px, py, reach)
+    if off is not None:
+        px, py = px - off[0], py - off[1]
+    both = np.ascontiguousarray(both, np.float32)
+    im, un = both[..., :ch], both[..., ch:]
+    diff = im - un
+    q = np.sqrt((diff * diff).sum(-1)).astype(np.float32)
+    # The ink's contrast at the strongest pixel of each 3 x 3 neighbourhood (the line's peak), and that peak.
+    qp = np.pad(q, 1, mode="edge")
+    dp = np.pad(diff, ((1, 1), (1, 1), (0, 0)), mode="edge")
+    h, w = q.shape
+    peak = q.copy()
+    ink = diff.copy()
+    for dy in (-1, 0, 1):
+        for dx in (-1, 0, 1):
+            if dx or dy:
+                qs = qp[1 + dy:1 + dy + h, 1 + dx:1 + dx + w]
+                more = qs > peak
+                peak = np.where(more, qs, peak)
+                ink = np.where(more[..., None], dp[1 + dy:1 + dy + h, 1 + dx:1 + dx + w], ink)
+    # The ink's full contrast: a high percentile of the lines' peaks (most lines cross some pixel
+    # whole). A line whose peak reaches half of it is drawn at full ink, as wide as its profile
+    # is above half the full contrast (a box-filtered line of any width and phase crosses it
+    # there); a fainter one keeps its own peak and its width at half maximum.
+    lines = peak[peak > _LINE_MIN_CONTRAST]
+    full = np.float32(np.percentile(lines, _LINE_FULL_PERCENTILE)) if lines.size else np.float32(1.0)
+    strong = peak >= 0.5 * full
+    thr = np.where(strong, 0.5 * full, 0.5 * peak).astype(np.float32)
+    ink *= np.where(strong, full / np.maximum(peak, 1e-6), 1.0).astype(np.float32)[..., None]
+    thr = np.ascontiguousarray(thr)
+    cover = np.zeros(px.size, np.float32)
+    for i in range(ss):
+        for j in range(ss):
+            ox, oy = np.float32((j + 0.5) / ss - 0.5), np.float32((i + 0.5) / ss - 0.5)
+            sx = px + ox * gx[:, 0] + oy * gy[:, 0]
+            sy = py + ox * gx[:, 1] + oy * gy[:, 1]
+            qv = _picked(q, sx, sy, cv2.INTER_CUBIC)[:, 0]
+            tv = _picked(thr, sx, sy, cv2.INTER_LINEAR)[:, 0]
+            cover += ((qv > tv) & (tv > 0.5 * _LINE_MIN_CONTRAST)).astype(np.float32)
+    cover /= np.float32(ss * ss)
+    base = _picked(np.ascontiguousarray(un), px, py, cv2.INTER_LINEAR).reshape(-1, ch)
+    ink_v = _picked(np.ascontiguousarray(ink), px, py, cv2.INTER_LINEAR).reshape(-1, ch)
+    out.reshape(-1, ch)[idx] = np.clip(base + cover[:, None] * ink_v, 0.0, 1.0)
+    return out
+
+
 #: Gaussian sigma (px) splitting an image into the band resampled smoothly and its grain
 #: (:func:`_sample_grain_at`).
 GRAIN_SIGMA = 1.0

@@ -16,7 +16,7 @@ import numpy as np
 
 from .correction import _correct
 from .inking import _ink_outline, _to_palette
-from .shaping import GRAIN_SIGMA, _sample, _sample_grain_at, _sample_sharp_at, random_warp
+from .shaping import GRAIN_SIGMA, _sample, _sample_grain_at, _sample_line_at, _sample_sharp_at, random_warp
 
 #: A layer's donor is the background's own exemplar only when every other is stretched more than this
 #: (log of the scale; see :func:`branchnb.leaves.synthesis.generate_leaf`).
@@ -26,6 +26,9 @@ _REUSE_STRETCH = float(np.log(1.5))
 #: Median width (px) up to which a layer's curves are hairlines, pasted without carrying their grain
 #: whole (:func:`_hairline`).
 _HAIRLINE = 2.0
+
+#: Whether a drawing's hairline layers are drawn anew rather than resampled (:func:`_sample_line_at`).
+_REDRAW_LINES = True
 
 
 def _hairline(p, k: int) -> bool:
@@ -237,7 +240,11 @@ def _paste_layers(p, params, rng, m, m_full, inside_full, alpha, rgb, c_bg, bg: 
             # the nearest source pixel put a rotated 1-px vein on every other
             # pixel (beads, dashes near the rim of 128-px leaves); resampled
             # smoothly they stay lines (see _HAIRLINE).
-            col = _sample_sharp_at(p.stage[k][e][..., :3], c, on)
+            if p.flat is not None and _REDRAW_LINES:
+                # A drawing's ink lines are drawn anew at their new place (see _sample_line_at).
+                col = _sample_line_at(p.stage[k][e][..., :3], p.layer_under[k][e][..., :3], c, on)
+            else:
+                col = _sample_sharp_at(p.stage[k][e][..., :3], c, on)
         else:
             col = _sample_grain_at(p.stage[k][e][..., :3], c, on)
         if params.layer_colour == "contrast":
