@@ -138,12 +138,13 @@ def _centred_pairs(src_img, pairs, control_points, target_shape) -> list[StrokeP
                       source_shape=src_img.shape, target_shape=target_shape)
 
 
-def _carried_parts(index, pairs, attached, window: float) -> list[tuple[int, int, float]]:
+def _carried_parts(index, pairs, attached, window: float, drawn=None) -> list[tuple[int, int, float]]:
     """``(pair, part, s_target)``: every pair carries the parts hanging from its source stroke.
 
     A part touching its own stroke at several places goes only where they
     all move alike; contact with other strokes does not hold it back (it
-    follows the stroke it touches most).
+    follows the stroke it touches most). ``drawn``: the pairs as the user
+    drew them (before centring), whose start moves a body follows.
     """
     keys = [p.source.points.tobytes() for p in pairs]
     out = []
@@ -157,6 +158,10 @@ def _carried_parts(index, pairs, attached, window: float) -> list[tuple[int, int
         mine = [i for i in range(len(pairs)) if keys[i] == keys[part.stroke]]
         if part.body:
             _trim_body(index, part)
+            if drawn is not None:
+                d = drawn[mine[0]]
+                part.shift = np.asarray(d.target._point_at(0.0), np.float64) - np.asarray(
+                    d.source._point_at(0.0), np.float64)
         if len(mine) > 1 and any(keys[j] != keys[part.stroke] for j, _ in part.anchors) \
                 and part.area > _own_area(index, part.stroke):
             # A source stroke drawn twice (a copy: an arm added) carries a copy of the
