@@ -203,15 +203,14 @@ def _mark_bodies(index, n_pairs: list[int]) -> None:
     """Set ``part.body`` of every part (:func:`_is_body`), then of the pieces of a body its stroke cut off.
 
     A stroke drawn from inside the body it grows out of (a leaf's stalk from
-    the twig's centre line, an arm from the cactus trunk's) cuts that body
-    into pieces with its tube. A piece smaller than the stroke's own piece
-    but lying off the stroke near its start (:func:`_off_the_stroke`) is
-    part of that body too when it hangs on the stroke's side (the twig left
-    of the leaf) or when another piece there is a body (the trunk's far
-    side, behind the arm's start). Turned with the stroke, it swung off
-    with a stroked leaf or arm. Pieces behind the start of a stroke with
-    no body there (a figure's legs below its trunk's stroke) hang from the
-    stroke and follow it, as before. Beyond the paper.
+    the twig's centre line) cuts that body into pieces with its tube. A
+    piece smaller than the stroke's own piece but lying off the stroke near
+    its start (:func:`_off_the_stroke`) is part of that body too when
+    another piece there is a body by :func:`_is_body` (the twig on the
+    other side of the stalk). Turned with the stroke, it swung off with a
+    stroked leaf. Pieces near the start of a stroke with no body there (a
+    figure's legs below its trunk's stroke, the petals round a flower head's
+    stroke) hang from the stroke and follow it, as before. Beyond the paper.
     """
     cand = []
     for part, n in zip(index.parts, n_pairs):
@@ -220,12 +219,7 @@ def _mark_bodies(index, n_pairs: list[int]) -> None:
             cand.append(part)
     has_body = {part.stroke for part in index.parts if part.body}
     for part in cand:
-        if not part.at_end:
-            part.body = True
-            has_body.add(part.stroke)
-    for part in cand:
-        if part.at_end and part.stroke in has_body:
-            part.body = True
+        part.body = part.stroke in has_body
 
 
 def _body_piece(index, part, n_pairs: int) -> bool:
@@ -262,14 +256,14 @@ def _is_body(index, part, n_pairs: int) -> bool:
 #: of it, farther than _is_body's reach from the start) for a part smaller than the stroke's own piece to
 #: still be the body the stroke grows out of: a piece of a twig only its leaf's stroke cuts off (twig
 #: 300-1000 px, leaf 1 turned: 0 %; turned with the leaf it swung off, 2,580-24,470 px changed away
-#: from the leaf) or of a cactus trunk an arm drawn from its centre cuts in three (200 px: 0 %).
+#: from the leaf).
 _ALONG = 0.2
 
 
 def _off_the_stroke(index, part, reach: float) -> bool:
     """Whether ``part`` hardly lies along its stroke past the stroke's start (:data:`_ALONG`): a piece
     of the body the stroke grows out of that its tube cut off (a twig on both sides of a leaf's
-    stalk, a trunk cut by an arm drawn from its centre), not a sliver of the stroke's own part.
+    stalk), not a sliver of the stroke's own part.
     Beyond the paper."""
     k = part.stroke
     (rs, cs) = part.box
