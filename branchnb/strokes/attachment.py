@@ -138,24 +138,30 @@ def _centred_pairs(src_img, pairs, control_points, target_shape) -> list[StrokeP
                       source_shape=src_img.shape, target_shape=target_shape)
 
 
-def _carried_parts(index, pairs, attached, window: float) -> list[tuple[int, int, float]]:
+def _carried_parts(index, pairs, attached, window: float, drawn=None) -> list[tuple[int, int, float]]:
     """``(pair, part, s_target)``: every pair carries the parts hanging from its source stroke.
 
     A part touching its own stroke at several places goes only where they
     all move alike; contact with other strokes does not hold it back (it
-    follows the stroke it touches most).
+    follows the stroke it touches most). ``drawn``: the pairs as the user
+    drew them (before centring), whose start moves a body follows.
     """
     keys = [p.source.points.tobytes() for p in pairs]
     out = []
-    for pi, part in enumerate(index.parts):
+    for part in index.parts:
         _steadiest_anchor(index, part, pairs, attached, keys, window)
+    _mark_bodies(index, [sum(k == keys[part.stroke] for k in keys) for part in index.parts])
+    for pi, part in enumerate(index.parts):
         (rs, cs) = part.box
         corners = np.array([[cs.start, rs.start, 1.0], [cs.stop, rs.stop, 1.0],
                             [cs.start, rs.stop, 1.0], [cs.stop, rs.start, 1.0]])
         mine = [i for i in range(len(pairs)) if keys[i] == keys[part.stroke]]
-        part.body = _is_body(index, part, len(mine))
         if part.body:
             _trim_body(index, part)
+            if drawn is not None:
+                d = drawn[mine[0]]
+                part.shift = np.asarray(d.target._point_at(0.0), np.float64) - np.asarray(
+                    d.source._point_at(0.0), np.float64)
         if len(mine) > 1 and any(keys[j] != keys[part.stroke] for j, _ in part.anchors) \
                 and part.area > _own_area(index, part.stroke):
             # A source stroke drawn twice (a copy: an arm added) carries a copy of the
@@ -193,6 +199,40 @@ def _carried_parts(index, pairs, attached, window: float) -> list[tuple[int, int
     return out
 
 
+def _mark_bodies(index, n_pairs: list[int]) -> None:
+    """Set ``part.body`` of every part (:func:`_is_body`), then of the pieces of a body its stroke cut off.
+
+    A stroke drawn from inside the body it grows out of (a leaf's stalk from
+    the twig's centre line) cuts that body into pieces with its tube. A
+    piece smaller than the stroke's own piece but lying off the stroke near
+    its start (:func:`_off_the_stroke`) is part of that body too when
+    another piece there is a body by :func:`_is_body` (the twig on the
+    other side of the stalk). Turned with the stroke, it swung off with a
+    stroked leaf. Pieces near the start of a stroke with no body there (a
+    figure's legs below its trunk's stroke, the petals round a flower head's
+    stroke) hang from the stroke and follow it, as before. Beyond the paper.
+    """
+    cand = []
+    for part, n in zip(index.parts, n_pairs):
+        part.body = _is_body(index, part, n)
+        if not part.body and _body_piece(index, part, n):
+            cand.append(part)
+    has_body = {part.stroke for part in index.parts if part.body}
+    for part in cand:
+        part.body = part.stroke in has_body
+
+
+def _body_piece(index, part, n_pairs: int) -> bool:
+    """Whether ``part`` could be a piece of the body its stroke grows out of, whatever its area: it
+    touches the stroke only near its start and hardly lies along the stroke (see :func:`_mark_bodies`)."""
+    if n_pairs != 1 or part.tip is not None:
+        return False
+    reach = 2.0 * float(index.half_width(part.stroke, 0.0)) + 2.0
+    if part.s > reach or any(j == part.stroke and s > reach for j, s in part.anchors):
+        return False
+    return _off_the_stroke(index, part, reach)
+
+
 def _is_body(index, part, n_pairs: int) -> bool:
     """Whether ``part`` is the body its stroke grows out of (moved, never turned: see
     :func:`~branchnb.strokes.parts.carry_frame`).
@@ -210,6 +250,32 @@ def _is_body(index, part, n_pairs: int) -> bool:
     # largest, and carried unturned it hung beside the new rope whole; at 128 px and more it is a loop)
     far = [s for j, s in part.anchors if j == part.stroke and s > max(reach, 0.5 * index.strokes[part.stroke].length)]
     return bool(part.s <= reach and part.area > _own_area(index, part.stroke) and not far)
+
+
+#: Most share of a part's pixels lying along its stroke past the stroke's start (within 1.5 half widths
+#: of it, farther than _is_body's reach from the start) for a part smaller than the stroke's own piece to
+#: still be the body the stroke grows out of: a piece of a twig only its leaf's stroke cuts off (twig
+#: 300-1000 px, leaf 1 turned: 0 %; turned with the leaf it swung off, 2,580-24,470 px changed away
+#: from the leaf).
+_ALONG = 0.2
+
+
+def _off_the_stroke(index, part, reach: float) -> bool:
+    """Whether ``part`` hardly lies along its stroke past the stroke's start (:data:`_ALONG`): a piece
+    of the body the stroke grows out of that its tube cut off (a twig on both sides of a leaf's
+    stalk), not a sliver of the stroke's own part.
+    Beyond the paper."""
+    k = part.stroke
+    (rs, cs) = part.box
+    s_loc = index.s_map[k][rs, cs][part.mask]
+    if not s_loc.size:
+        return False
+    yy, xx = np.nonzero(part.mask)
+    foot = index.strokes[k].point_at(s_loc)
+    off = np.hypot(xx + cs.start - foot[:, 0], yy + rs.start - foot[:, 1])
+    half = np.asarray(index.half_width(k, s_loc), np.float64)
+    along = (s_loc > reach) & (off <= 1.5 * half + 2.0)
+    return bool(float(along.mean()) <= _ALONG)
 
 
 def _trim_body(index, part) -> None:

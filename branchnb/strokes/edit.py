@@ -669,6 +669,7 @@ def fetch_patches(image, source_strokes, target_strokes, params: StrokeEditParam
     bg_img, target_shape = _background(background, target_shape, src_img.shape)
     pairs = make_pairs(source_strokes, target_strokes, control_points,
                        source_shape=src_img.shape, target_shape=target_shape)
+    drawn = pairs
     if params.centre_strokes:
         pairs = _centred_pairs(src_img, pairs, control_points, target_shape)
     index = _still_crossings(source_index(src_img, [p.source for p in pairs], patch_size=params.patch_size),
@@ -702,7 +703,7 @@ def fetch_patches(image, source_strokes, target_strokes, params: StrokeEditParam
     if index.has_alpha:
         _align_exits(index, pairs, attached, junctions)
     elbows = add_elbow_pins(pairs, attached, window, _mirrored)
-    carried = _carried_parts(index, pairs, attached, window) if params.unstroked == "follow" else []
+    carried = _carried_parts(index, pairs, attached, window, drawn) if params.unstroked == "follow" else []
     for i in range(len(pairs)):
         pins = sorted({(index.parts[pi].s, s_t) for j, pi, s_t in carried
                        if j == i and index.parts[pi].contact})
