@@ -226,9 +226,48 @@ def _band_claimed(share, blade, removed, taken):
     return removed & ~taken & coloured, taken & blade & (share > np.float32(cut))
 
 
+def _carried(training) -> dict | None:
+    """Per thin line layer grown along fainter lines, its mask without them: the structure snapped.
+
+    Parameters
+    ----------
+    training : TrainingLayers
+        The grown training layers (:func:`~branchnb.leaves.layers.grow_layers`).
+
+    Returns
+    -------
+    dict or None
+        Name -> mask, for the layers that grew along fainter lines; None when none did.
+
+    Notes
+    -----
+    Beyond the paper (issue 22, leaves97): the fainter lines a scribbled vein layer grew along
+    (:func:`~branchnb.leaves.layers_lines._along_lines`) stay in its colour model and its mask, but
+    not in the structure carried to the exemplars. Joined to the main veins, each split a main vein's
+    skeleton chain at a new junction (maple_leaf_01's midrib: one chain of 45 samples -> 15 + 14 + a
+    31-sample side branch), and the chains were placed apart: on maple_leaf_05 the right main
+    lateral's first third was traced as a 56-px zig-zag beside the midrib, the lateral itself started
+    a third of its length up.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from types import SimpleNamespace as NS
+    >>> m = np.ones((2, 2), bool); a = np.array([[True, False], [False, False]])
+    >>> _carried(NS(masks={"veins": m}, along={"veins": a}))["veins"].sum()
+    3
+    """
+    along = getattr(training, "along", None)
+    if not along:
+        return None
+    out = {name: training.masks[name] & ~extra for name, extra in along.items()
+           if name in training.masks and extra is not None and extra.any()}
+    return out or None
+
+
 def induce(images, blades, training_index: int, user_masks: dict, registrations,
            params: InductionParams, *, space: ColourSpace | None = None,
-           progress: Progress | None = None, rng=0):
+           progress: Progress | None = None, rng=0, carried: dict | None = None):
     """Induce the user layers (top first) on every exemplar, removing each before the next.
 
     Parameters
@@ -251,6 +290,9 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
         Called between steps; an exception it raises stops the induction.
     rng : {numpy.random.Generator, int}
         Seeds the removal of each layer (patch quilting of wide parts); default 0.
+    carried : dict name -> (H, W) bool, optional
+        Per layer, the part of its user mask whose structure is snapped onto
+        the exemplars (:func:`_carried`); default (or a missing name) the whole mask.
 
     Returns
     -------
@@ -319,8 +361,12 @@ def induce(images, blades, training_index: int, user_masks: dict, registrations,
             # marks' registered places (see Notes of :func:`induce`).
             snapped, own, ridge_px, centred, zones, rims = None, [None] * n, [None] * n, None, [None] * n, [None] * n
         else:
+            core = user
+            if carried is not None and carried.get(name) is not None:
+                core = user & np.asarray(carried[name], bool)
+                core = core if core.any() else user
             snapped, own, ridge_px, centred, zones, rims = _snapped(
-                residual, blades, t, user, registrations, stats, tolerance, params, labs=labs,
+                residual, blades, t, core, registrations, stats, tolerance, params, labs=labs,
                 rgb=None if outline_in_layer else rgb)
         # The training leaf's colour model where the exemplar's layer has its
         # colour (it is exact there; re-estimated from the found pixels it lost
