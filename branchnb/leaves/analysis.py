@@ -29,6 +29,7 @@ from .analysis_induce import (  # noqa: F401  (importable from here as before)
     UNDER_INDUCED,
     LayerInduction,
     Progress,
+    _carried,
     _combine,
     _contrast,
     _has_layer_colour,
@@ -253,7 +254,7 @@ class LeafAnalysis:
             [e[..., :3] for e in self.exemplars], self.blades, self.training_index,
             {n: self.training.masks[n] for n in self.training.order}, self.registrations,
             params, space=self.space if params.bins == self.space.bins else None,
-            progress=progress, rng=self.rng_seed)
+            progress=progress, rng=self.rng_seed, carried=_carried(self.training))
         out = _with_standout(dataclasses.replace(self, params=params, layers=layers, residuals=residuals,
                                                  space=space))
         warn_analysis(out, stacklevel=2)
@@ -587,7 +588,7 @@ def analyze(exemplars, training_index: int, layers, params: InductionParams | No
         report(0.5, "registered")
     layers_out, residuals, space = induce(
         [im[..., :3] for im in images], blades, t, {k: training.masks[k] for k in training.order},
-        registrations, params, progress=_progress(progress, 0.5, 1.0), rng=rng)
+        registrations, params, progress=_progress(progress, 0.5, 1.0), rng=rng, carried=_carried(training))
     out = _with_standout(LeafAnalysis(images, blades, t, training, list(registrations), params, space, layers_out,
                                       residuals, layer_set, rng, offsets, mirrored))
     warn_analysis(out, stacklevel=2)

@@ -176,6 +176,10 @@ class TrainingLayers:
         Layer names, top first.
     superpixels : (H, W) int ndarray
         SLIC labels (0 outside the blade).
+    along : dict of str -> (H, W) bool ndarray, optional
+        Per thin line layer, the pixels of its mask it took by growing along
+        fainter unscribbled lines (:func:`branchnb.leaves.layers_lines._along_lines`);
+        None or a missing name: none.
     """
 
     masks: dict
@@ -183,6 +187,7 @@ class TrainingLayers:
     background: np.ndarray
     order: list
     superpixels: np.ndarray
+    along: dict | None = None
 
 
 def grow_layers(image, blade, layer_set: LayerSet, params: SnapParams | None = None, *,
@@ -461,4 +466,5 @@ def grow_layers(image, blade, layer_set: LayerSet, params: SnapParams | None = N
     for name in [x.name for x in layer_set.ordered()]:
         masks[name] = masks[name] & ~taken
         taken |= masks[name]
-    return TrainingLayers(masks, blade, blade & ~taken, [x.name for x in layer_set.ordered()], sp)
+    return TrainingLayers(masks, blade, blade & ~taken, [x.name for x in layer_set.ordered()], sp,
+                          along={name: extra & masks[name] for name, extra in along.items()})
