@@ -174,10 +174,12 @@ class RootModel:
         axis = 0 if kind in (0, 1) else 1
         side_len = float(w if axis == 0 else h)
         along = self.positions[self.sides == kind, axis] * side_len
-        spread = float(np.std(along))
-        sig = min(sig, max(spread, _SIDE_PULL_MIN * side_len))
         gaps = np.diff(np.sort(along))
-        return sig, min(spacing, float(np.median(gaps)) / 0.8 + 1.0) if len(gaps) else spacing
+        gap = float(np.median(gaps))
+        # a quarter of the gap: at half of it, the first of two roots 110 px apart came in between them
+        # and pushed the second one past its own place
+        sig = min(sig, max(0.25 * gap, _SIDE_PULL_MIN * side_len))
+        return sig, min(spacing, gap / 0.8 + 1.0)
 
     def sample(self, domain: np.ndarray, rng=None, n: int | None = None,
                min_depth: float = 2.0) -> list[tuple[float, float, float]]:
