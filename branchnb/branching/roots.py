@@ -36,7 +36,8 @@ _SIDES = ("top", "bottom", "left", "right", "region", "inside")
 #: Start places considered per root (a random subset of the band on big domains).
 _MAX_CANDIDATES = 4000
 #: Narrowest pull (share of the side's length) towards the place of an example root on an image side
-#: that several example roots share (:meth:`RootModel._side_pull`); measured by ``_side_pull_check``.
+#: that several example roots share (:meth:`RootModel._side_pull`): roots spread over a whole side stay
+#: spread (three roots at 0.1/0.5/0.9 of a side: 90 % of new roots within 0.12 of one), see ``_side_pull_check``.
 _SIDE_PULL_MIN = 0.1
 
 
@@ -166,10 +167,14 @@ class RootModel:
 
         Going beyond the paper (issue 23): the roots of one side often cluster on part of it (frost
         grown from the middle of the bottom, a tree's branches leaving the frame a few pixels apart).
-        The pull towards the example root's place is at most as wide as the example's roots spread
-        along that side (at least :data:`_SIDE_PULL_MIN` of its length), and the spacing between
-        new roots at most the example's between its roots of that side, so a second root is not
-        pushed to the far end of the side. See :data:`_SIDE_PULL_MIN` for the figures.
+        The pull towards the example root's place (a Gaussian, by default ``0.3 diag / sqrt(roots on
+        the side)`` wide) is at most a quarter of the median gap between neighbouring example roots on
+        that side (at least :data:`_SIDE_PULL_MIN` of its length), and the spacing kept between new
+        roots at most that gap, so a second root is not pushed to the far end of the side. Distance of
+        a sampled root from the nearest example root of its side (share of the side, ``_side_pull_check``,
+        3 examples x 256/512/768 px x seeds 0-5): frost-like mean 0.19 -> 0.08, max 0.70 -> 0.24;
+        roots entering one part of a side 0.09-0.11 -> 0.05-0.06; 13 extracted frost examples
+        (256/384/512 px) mean 0.13 -> 0.06, share above 0.25 of the side 13 % -> 1 %.
         """
         axis = 0 if kind in (0, 1) else 1
         side_len = float(w if axis == 0 else h)
