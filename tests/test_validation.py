@@ -672,3 +672,12 @@ def test_huge_ints_and_seeds_are_refused_by_name():
                        (lambda: BatchSpec("dendrite_tree", count=1, seed=big), "seed must be below 2")]:
         with pytest.raises(ValueError, match=name):
             call()
+
+
+def test_a_trunk_mask_of_another_shape_is_named():
+    from branchnb.trees import process_exemplar
+
+    img = fuzzkit._tree_rgba()
+    for bad in (np.ones((3, 3), bool), [[1]]):
+        with pytest.raises(ValueError, match="trunk_mask has shape"):
+            process_exemplar(img, "a", trunk_mask=bad, exemplar_params=fuzzkit._ex_params())

@@ -343,7 +343,8 @@ def process_exemplar(image, name: str = "", *, trunk_mask=None, trunk: str = "au
     if trunk_mask is None:
         tmask, source = exemplar_trunk(norm.image, trunk)
     else:
-        tmask, source = norm.warp_mask(trunk_mask) & norm.alpha, "mask"
+        given = as_mask(trunk_mask, shape=norm.source_shape, name="trunk_mask")
+        tmask, source = norm.warp_mask(given) & norm.alpha, "mask"
     contours = extract_contours(norm.alpha)
     tc = tree_contour(contours.tree, norm.alpha, tmask, cp, corners=norm.pixel_art is None)
     return Exemplar(str(name), norm.image, tmask, contours, tc, norm, source, cut)
