@@ -99,7 +99,7 @@ def _fork_radii(model) -> tuple[np.ndarray, np.ndarray]:
 
 def head_fork_ratios(model) -> np.ndarray:
     """Per input branch (head), the radius its head starts at over its parent's at its fork (beyond the
-    paper, issue 23, branching122; :data:`CHILD_FORK_RATIO`).
+    paper, issue 23, branching122; ``branch_starts.CHILD_FORK_RATIO``).
 
     The head's start radius is the largest of its first three radii (as a child's head is capped in
     synthesis), the parent's that at the child's parent vertex; the ratio is clipped to (0, 1] (a child
@@ -141,7 +141,7 @@ def _ranks(a: np.ndarray) -> np.ndarray:
 def fork_radius_rank(model) -> float:
     """How far the example's children inherit their thickness from their parent: the rank (Spearman)
     correlation, over the example's children, between the parent's radius at the fork and the child's head
-    start radius (beyond the paper, issue 23, branching123; :data:`CHILD_FORK_RANK`).
+    start radius (beyond the paper, issue 23, branching123; ``branch_starts.CHILD_FORK_RANK``).
 
     Near 1 on a tree whose limbs are thick off a thick trunk and twigs thin off thin limbs (pipe model);
     near 0 or below where a child's width does not follow its parent's (cracks, bolts, strands of one
