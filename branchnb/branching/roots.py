@@ -35,10 +35,6 @@ __all__ = ["RootModel", "boundary_frame", "fit_roots", "outlet_starts"]
 _SIDES = ("top", "bottom", "left", "right", "region", "inside")
 #: Start places considered per root (a random subset of the band on big domains).
 _MAX_CANDIDATES = 4000
-#: Narrowest pull (share of the side's length) towards the place of an example root on an image side
-#: that several example roots share (:meth:`RootModel._side_pull`): roots spread over a whole side stay
-#: spread (three roots at 0.1/0.5/0.9 of a side: 90 % of new roots within 0.12 of one), see ``_side_pull_check``.
-_SIDE_PULL_MIN = 0.1
 
 
 def boundary_frame(domain: np.ndarray):
@@ -162,30 +158,6 @@ class RootModel:
             self.__dict__["_pieces_cache"] = hit
         return hit[1]
 
-    def _side_pull(self, kind: int, h: int, w: int, sig: float, spacing: float) -> tuple[float, float]:
-        """Pull width and spacing of a new root on image side ``kind`` shared by several example roots.
-
-        Going beyond the paper (issue 23): the roots of one side often cluster on part of it (frost
-        grown from the middle of the bottom, a tree's branches leaving the frame a few pixels apart).
-        The pull towards the example root's place (a Gaussian, by default ``0.3 diag / sqrt(roots on
-        the side)`` wide) is at most a quarter of the median gap between neighbouring example roots on
-        that side (at least :data:`_SIDE_PULL_MIN` of its length), and the spacing kept between new
-        roots at most that gap, so a second root is not pushed to the far end of the side. Distance of
-        a sampled root from the nearest example root of its side (share of the side, ``_side_pull_check``,
-        3 examples x 256/512/768 px x seeds 0-5): frost-like mean 0.19 -> 0.08, max 0.70 -> 0.24;
-        roots entering one part of a side 0.09-0.11 -> 0.05-0.06; 13 extracted frost examples
-        (256/384/512 px) mean 0.13 -> 0.06, share above 0.25 of the side 13 % -> 1 %.
-        """
-        axis = 0 if kind in (0, 1) else 1
-        side_len = float(w if axis == 0 else h)
-        along = self.positions[self.sides == kind, axis] * side_len
-        gaps = np.diff(np.sort(along))
-        gap = float(np.median(gaps))
-        # a quarter of the gap: at half of it, the first of two roots 110 px apart came in between them
-        # and pushed the second one past its own place
-        sig = min(sig, max(0.25 * gap, _SIDE_PULL_MIN * side_len))
-        return sig, min(spacing, gap / 0.8 + 1.0)
-
     def sample(self, domain: np.ndarray, rng=None, n: int | None = None,
                min_depth: float = 2.0) -> list[tuple[float, float, float]]:
         """Draw ``n`` (default ``n_roots``) starts ``(x, y, angle)`` in ``domain`` ((H, W) bool).
@@ -252,16 +224,13 @@ class RootModel:
                 # (within ~7 % of the diagonal; at 10 % a delta's trunk entering mid-side came in
                 # next to a corner in one seed of six and ran down the land's edge)
                 sig = 0.035 * diag
-            gap = spacing
-            if kind < 4 and same > 1 and self.n_roots > 1:
-                sig, gap = self._side_pull(kind, h, w, sig, spacing)
             px, py = self.positions[j] * (w, h)
             wgt = np.exp(-((xs - px) ** 2 + (ys - py) ** 2) / (2 * sig ** 2)) + 1e-9
             if starts:
                 st = np.array([(x, y) for x, y, _ in starts])
                 dmin = np.sqrt(((xs[:, None] - st[None, :, 0]) ** 2 +
                                 (ys[:, None] - st[None, :, 1]) ** 2).min(1))
-                far = dmin >= 0.8 * gap
+                far = dmin >= 0.8 * spacing
                 if far.any():
                     wgt = wgt * far
                 else:
