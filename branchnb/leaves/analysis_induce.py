@@ -267,7 +267,7 @@ def _carried(training) -> dict | None:
     >>> import numpy as np
     >>> from types import SimpleNamespace as NS
     >>> m = np.ones((2, 2), bool); a = np.array([[True, False], [False, False]])
-    >>> _carried(NS(masks={"veins": m}, along={"veins": a}))["veins"].sum()
+    >>> int(_carried(NS(masks={"veins": m}, along={"veins": a}))["veins"].sum())
     3
     """
     along = getattr(training, "along", None)
